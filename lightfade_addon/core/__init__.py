@@ -1,0 +1,20 @@
+"""LightFade's physics and colour science: numpy and colour-science only, never bpy.
+
+The public entry point of the fading model is :func:`simulate` (paper, Section 3).
+"""
+
+from .fading import SCHEMES, SimulationResult, simulate, trapezoid_weights
+from .flux import boundary_fluxes, boundary_fluxes_dense, stack_reflectance
+from .kubelka import kubelka_layer, over_ground
+
+__all__ = [
+    "SCHEMES",
+    "SimulationResult",
+    "boundary_fluxes",
+    "boundary_fluxes_dense",
+    "kubelka_layer",
+    "over_ground",
+    "simulate",
+    "stack_reflectance",
+    "trapezoid_weights",
+]
