@@ -1,0 +1,1 @@
+"""Benchmarks and studies: programs that print figures (``./run py -m benchmarks.NAME``)."""

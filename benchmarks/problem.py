@@ -1,0 +1,43 @@
+"""The fading problem the studies share: the bundled CMY dyes on paper in daylight.
+
+Section 4.3 of the paper fades random mixtures of three primary colourants (cyan,
+magenta, yellow). Its dye data (Yang 2002) is not public, so the studies use the
+bundled parametric dyes (``docs/data.md``) and choose the sensitivities so that
+one unit of time is a heavy fade, magenta fastest and cyan slowest, as in prints.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from lightfade_addon.core.colourants import load_colourant, load_substrate
+from lightfade_addon.core.layered import trapezoid_weights
+from lightfade_addon.core.spectra import WAVELENGTHS, light_spectrum
+
+#: Relative fading speeds of cyan, magenta and yellow (magenta goes first).
+SPEEDS = np.array([2.0, 5.0, 3.0])
+
+
+def cmy_problem(wavelengths=WAVELENGTHS, light="daylight"):
+    """Keyword arguments of :func:`lightfade_addon.core.simulate` except the
+    concentrations: CMY dyes on paper under ``light``, ``duration = 1``.
+
+    The irradiance is the light's spectrum at 1 lux; ``beta_j = SPEEDS_j /
+    trapz(A_j E0)``, so a solid dye at the surface loses its first e-fold in
+    about ``1 / (2 SPEEDS_j)`` time units (the fluence there is about twice the
+    irradiance over white paper).
+    """
+    lam = np.asarray(wavelengths, dtype=float)
+    dyes = [load_colourant(name, lam) for name in ("cyan", "magenta", "yellow")]
+    A = np.stack([d.K for d in dyes])
+    S = np.stack([d.S for d in dyes])
+    E0 = light_spectrum(light, lam)
+    beta = SPEEDS / (A * E0 * trapezoid_weights(lam)).sum(axis=1)
+    return dict(absorption=A, scattering=S, sensitivity=beta, irradiance=E0,
+                substrate=load_substrate("paper", lam).reflectance, wavelengths=lam,
+                duration=1.0)
+
+
+def random_mixtures(count=10, seed=2024):
+    """``count`` seeded random CMY mixtures, concentrations uniform in [0, 1]."""
+    return np.random.default_rng(seed).uniform(0.0, 1.0, (count, 3))
