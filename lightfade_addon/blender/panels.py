@@ -1,0 +1,162 @@
+"""LightFade's panels: a "LightFade" tab in the 3D viewport sidebar, and a panel in
+Material Properties."""
+
+import bpy
+
+from .stats import annual_dose, emitter_schedule, image_max
+
+
+class LightFadeSidebarMixin:
+    """Shared placement of the sidebar panels (3D viewport > N panel > LightFade)."""
+
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "LightFade"
+
+
+def _draw_schedule(layout, schedule):
+    layout.prop(schedule, "enabled")
+    col = layout.column()
+    col.active = schedule.enabled
+    col.prop(schedule, "spectrum")
+    col.prop(schedule, "uv_filter")
+    col.prop(schedule, "hours_per_day")
+    col.prop(schedule, "days_per_year")
+
+
+def _draw_dose(layout, label, max_lux, schedule):
+    """One row: ``label  max lux  annual dose``."""
+    dose = annual_dose(max_lux, schedule) if schedule is not None else 0.0
+    row = layout.row()
+    row.label(text=label)
+    row.label(text=f"{max_lux:,.0f} lx")
+    row.label(text=f"{dose:,.0f} lx·h/yr ({dose / 1e6:.3g} Mlx·h)")
+
+
+class VIEW3D_PT_lightfade_aging(LightFadeSidebarMixin, bpy.types.Panel):
+    bl_label = "Aging"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(context.scene.lightfade, "years")
+        # --- LEAD: the "Age" and "Reset" operators and preview settings go here. ---
+        layout.prop(context.scene.lightfade, "preview_resolution")
+
+
+class VIEW3D_PT_lightfade_bake(LightFadeSidebarMixin, bpy.types.Panel):
+    bl_label = "Exposure Bake"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        props = context.scene.lightfade
+        col = layout.column(align=True)
+        col.prop(props, "bake_resolution")
+        col.prop(props, "bake_samples")
+        col.prop(props, "bake_margin")
+        layout.operator("lightfade.bake_exposure", icon="RENDER_STILL")
+
+        obj = context.object
+        if obj is None or obj.type != "MESH" or not obj.lightfade.exposure_maps:
+            return
+        box = layout.box()
+        box.label(text=f"{obj.name}: exposure maps (UV \"{obj.lightfade.uv_map}\")")
+        for item in obj.lightfade.exposure_maps:
+            schedule = emitter_schedule(context.scene, item.emitter, item.emitter_kind)
+            _draw_dose(box, item.emitter, image_max(item.image), schedule)
+
+
+class VIEW3D_PT_lightfade_emitter(LightFadeSidebarMixin, bpy.types.Panel):
+    """Schedule of the active lamp or emissive mesh, and the brightest texel it lights."""
+
+    bl_label = "Light Schedule"
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.object
+        return obj is not None and obj.type in {"LIGHT", "MESH"}
+
+    def draw(self, context):
+        layout = self.layout
+        obj = context.object
+        if obj.type == "LIGHT":
+            schedule = obj.data.lightfade
+        else:
+            schedule = obj.lightfade_emitter
+            layout.label(text="Used if the mesh has an emissive material", icon="INFO")
+        layout.use_property_split = True
+        _draw_schedule(layout, schedule)
+        _draw_lit_objects(layout.box(), context.scene, obj.name, schedule)
+
+
+class VIEW3D_PT_lightfade_world(LightFadeSidebarMixin, bpy.types.Panel):
+    bl_label = "Sky Schedule (World)"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene.world is not None
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        schedule = context.scene.world.lightfade
+        _draw_schedule(layout, schedule)
+        _draw_lit_objects(layout.box(), context.scene, "World", schedule)
+
+
+def _draw_lit_objects(layout, scene, emitter_name, schedule, limit=8):
+    """Brightest texel per object lit by ``emitter_name``, and its annual dose."""
+    rows = 0
+    for obj in scene.objects:
+        if obj.type != "MESH":
+            continue
+        item = obj.lightfade.exposure_maps.get(emitter_name)
+        if item is None or item.image is None:
+            continue
+        if rows == limit:
+            layout.label(text="…")
+            break
+        _draw_dose(layout, obj.name, image_max(item.image), schedule)
+        rows += 1
+    if rows == 0:
+        layout.label(text="No exposure maps baked for this emitter yet")
+
+
+class MATERIAL_PT_lightfade(bpy.types.Panel):
+    """Aging recipe of the active material."""
+
+    bl_label = "LightFade"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "material"
+
+    @classmethod
+    def poll(cls, context):
+        return context.material is not None
+
+    def draw_header(self, context):
+        self.layout.prop(context.material.lightfade, "enabled", text="")
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        props = context.material.lightfade
+        layout.active = props.enabled
+        layout.prop(props, "recipe")
+        layout.prop(props, "sensitivity_mode")
+        if props.sensitivity_mode == "BLUE_WOOL":
+            layout.prop(props, "blue_wool")
+        else:
+            layout.prop(props, "beta")
+        layout.prop(props, "albedo_image")
+
+
+CLASSES = (
+    VIEW3D_PT_lightfade_aging,
+    VIEW3D_PT_lightfade_bake,
+    VIEW3D_PT_lightfade_emitter,
+    VIEW3D_PT_lightfade_world,
+    MATERIAL_PT_lightfade,
+)

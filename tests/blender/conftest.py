@@ -1,0 +1,108 @@
+"""Fixtures for the Blender tests: a fresh factory file with LightFade enabled, and
+small scenes to bake (64 px, 8 samples: a bake takes a fraction of a second)."""
+
+import math
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+bpy = pytest.importorskip("bpy")
+import addon_utils  # noqa: E402  (Blender's module, importable once bpy is)
+import numpy as np  # noqa: E402
+
+ADDON = "lightfade_addon"
+
+
+def pytest_collection_modifyitems(config, items):
+    here = Path(__file__).parent
+    for item in items:
+        if here in Path(str(item.fspath)).parents:
+            item.add_marker(pytest.mark.blender)
+
+
+@pytest.fixture
+def blender():
+    """An empty factory-settings file with the add-on enabled; disabled afterwards."""
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    addon_utils.enable(ADDON, default_set=True)
+    yield bpy
+    addon_utils.disable(ADDON, default_set=True)
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+
+
+def add_sun(strength=2.0, theta_deg=40.0, name="Sun"):
+    """A hard sun (angle 0) tilted ``theta_deg`` from the zenith toward -y (shadows fall to +y)."""
+    scene = bpy.context.scene
+    data = bpy.data.lights.new(name, "SUN")
+    data.energy = strength
+    data.angle = 0.0
+    obj = bpy.data.objects.new(name, data)
+    scene.collection.objects.link(obj)
+    obj.rotation_euler = (math.radians(theta_deg), 0.0, 0.0)
+    return obj
+
+
+def add_point(power=100.0, location=(0.0, 0.0, 2.0), name="Lamp"):
+    data = bpy.data.lights.new(name, "POINT")
+    data.energy = power
+    data.shadow_soft_size = 0.0
+    obj = bpy.data.objects.new(name, data)
+    bpy.context.scene.collection.objects.link(obj)
+    obj.location = location
+    return obj
+
+
+@pytest.fixture
+def floor_scene(blender):
+    """A 2 m UV'd plane "Floor" with a 0.6 m box "Box" lying on it at (0.4, 0.4) and a sun.
+
+    The floor has a material "Carpet" with LightFade enabled whose Base Color is an
+    8×8 image "CarpetAlbedo".
+    """
+    bpy.ops.mesh.primitive_plane_add(size=2.0)
+    floor = bpy.context.active_object
+    floor.name = "Floor"
+    mat = bpy.data.materials.new("Carpet")
+    if bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    albedo = bpy.data.images.new("CarpetAlbedo", 8, 8)
+    albedo.pixels.foreach_set(np.linspace(0.0, 1.0, 8 * 8 * 4, dtype=np.float32))
+    albedo.pack()
+    tex = mat.node_tree.nodes.new("ShaderNodeTexImage")
+    tex.image = albedo
+    bsdf = mat.node_tree.nodes["Principled BSDF"]
+    mat.node_tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+    mat.lightfade.enabled = True
+    floor.data.materials.append(mat)
+    bpy.ops.mesh.primitive_cube_add(size=0.6, location=(0.4, 0.4, 0.3))
+    box = bpy.context.active_object
+    box.name = "Box"
+    sun = add_sun()
+    for o in bpy.context.view_layer.objects:
+        o.select_set(False)
+    scene = bpy.context.scene
+    scene.lightfade.bake_resolution = 64
+    scene.lightfade.bake_samples = 8
+    scene.lightfade.bake_margin = 2
+    return {"floor": floor, "box": box, "sun": sun, "material": mat, "albedo": albedo}
+
+
+@pytest.fixture
+def lf():
+    """Helpers for the tests: ``lf.add_sun``, ``lf.add_point``, ``lf.pixels``, ``lf.ROOT``, ``lf.ADDON``."""
+    from types import SimpleNamespace
+
+    return SimpleNamespace(add_sun=add_sun, add_point=add_point, pixels=pixels, ROOT=ROOT, ADDON=ADDON)
+
+
+def pixels(image):
+    """(H, W) R channel of ``image`` as float32."""
+    a = np.empty(len(image.pixels), dtype=np.float32)
+    image.pixels.foreach_get(a)
+    w, h = image.size
+    return a.reshape(h, w, image.channels)[..., 0]

@@ -1,0 +1,74 @@
+"""The panels draw without errors and only reference properties and operators that exist.
+
+Panels cannot be drawn in background mode, so ``draw`` runs against a recording layout
+that checks every ``prop`` and ``operator`` call.
+"""
+
+from types import SimpleNamespace
+
+import bpy
+import pytest
+
+from lightfade_addon.blender.bake import BakeSettings, bake_exposure
+
+
+class RecordingLayout:
+    def __init__(self, calls):
+        self.calls = calls
+        self.use_property_split = False
+        self.active = True
+
+    def _child(self, *args, **kwargs):
+        return RecordingLayout(self.calls)
+
+    row = column = box = split = _child
+
+    def prop(self, data, name, **kwargs):
+        assert name in data.bl_rna.properties, f"{data!r} has no property {name!r}"
+        self.calls.append(("prop", name))
+
+    def operator(self, idname, **kwargs):
+        module, name = idname.split(".")
+        assert hasattr(getattr(bpy.ops, module), name), idname
+        self.calls.append(("operator", idname))
+
+    def label(self, text="", **kwargs):
+        self.calls.append(("label", text))
+
+
+def draw_all(context):
+    from lightfade_addon.blender import panels
+
+    calls = []
+    for cls in panels.CLASSES:
+        if hasattr(cls, "poll") and not cls.poll(context):
+            continue
+        panel = SimpleNamespace(layout=RecordingLayout(calls))
+        if hasattr(cls, "draw_header"):
+            cls.draw_header(panel, context)
+        cls.draw(panel, context)
+    return calls
+
+
+def test_panels_draw(floor_scene, lf):
+    scene = bpy.context.scene
+    world = bpy.data.worlds.new("Sky")
+    scene.world = world
+    bake_exposure(scene, [floor_scene["floor"]], BakeSettings(32, 2, 1))
+    floor, sun = floor_scene["floor"], floor_scene["sun"]
+    for active in (floor, sun):
+        ctx = SimpleNamespace(scene=scene, object=active, material=floor_scene["material"])
+        calls = draw_all(ctx)
+        assert ("operator", "lightfade.bake_exposure") in calls
+        assert ("prop", "years") in calls and ("prop", "recipe") in calls
+    # Active lamp: its schedule and the brightest texel and annual dose of each lit object.
+    sun.data.lightfade.hours_per_day, sun.data.lightfade.days_per_year = 10.0, 100.0
+    ctx = SimpleNamespace(scene=scene, object=sun, material=None)
+    labels = [text for kind, text in draw_all(ctx) if kind == "label"]
+    from lightfade_addon.blender.stats import image_max
+
+    image = floor.lightfade.exposure_maps["Sun"].image
+    max_lux = image_max(image)
+    assert max_lux == lf.pixels(image).max() and max_lux > 683 * 2 * 0.766 * 0.97
+    assert f"{max_lux:,.0f} lx" in labels
+    assert any(f"({max_lux * 1000 / 1e6:.3g} Mlx·h)" in t for t in labels)
