@@ -1,0 +1,286 @@
+"""Material recipes: which colourants, on which substrate, how sensitive.
+
+A :class:`Recipe` names its colourants and substrate (bundled data files, see
+``docs/data.md``), the light sensitivity of each colourant (directly as ``beta`` or
+as an ISO 105-B Blue Wool class), yellowing yields, and the solver settings from the
+accuracy study. Which colourants are *unmixed* from a texture's colours and which
+have a fixed concentration is part of the recipe: printed paper is unmixed into
+cyan, magenta and yellow; bare wood has a fixed lignin content whatever its grain.
+
+Blue Wool calibration (DESIGN.md, "Light spectra and sensitivity"): a colourant of
+class ``k`` shows a just-noticeable fade, ΔE*ab = 1.6 (grey scale step 4), after
+``0.4 Mlx·h × 3**(k - 1)`` of a UV-free reference light (CIE D65 behind a UV
+filter). :func:`beta_from_blue_wool` finds the ``beta`` that does so for the
+colourant alone at full concentration on the recipe's substrate.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .colorimetry import delta_E_ab, reflectance_to_Lab
+from .colourants import load_colourant, load_substrate
+from .fading import simulate
+from .spectra import WAVELENGTHS, light_spectrum
+
+__all__ = [
+    "Recipe",
+    "RECIPES",
+    "get_recipe",
+    "blue_wool_dose",
+    "beta_from_blue_wool",
+    "JND_DELTA_E",
+]
+
+#: A just-noticeable colour change, ΔE*ab (ISO grey scale step 4).
+JND_DELTA_E = 1.6
+#: Dose for a just-noticeable fade of Blue Wool class 1, lux·h, UV-free light.
+BLUE_WOOL_1_DOSE = 0.4e6
+
+
+def blue_wool_dose(blue_wool):
+    """Dose (lux·h) for a just-noticeable fade of Blue Wool class ``blue_wool``.
+
+    ``0.4 Mlx·h × 3**(class - 1)``: about 0.4 Mlx·h for class 1 and 875 Mlx·h for
+    class 8 (fractional classes interpolate geometrically).
+
+    Examples
+    --------
+    >>> blue_wool_dose(3) / 1e6
+    3.6
+    """
+    k = float(blue_wool)
+    if not 1.0 <= k <= 8.0:
+        raise ValueError(f"Blue Wool class must lie in 1..8, got {blue_wool!r}")
+    return BLUE_WOOL_1_DOSE * 3.0 ** (k - 1.0)
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """A material's fading recipe.
+
+    Attributes
+    ----------
+    name : str
+        Identifier, e.g. ``"printed-paper"``.
+    colourants : tuple of str
+        Bundled colourant names (or data-file paths), in order.
+    substrate : str
+        Bundled substrate name (or path): the ground reflectance ``rho*``.
+    blue_wool : tuple of float or None
+        ISO Blue Wool class per colourant (1 fades fastest, 8 slowest); ``None`` for
+        a colourant whose ``beta`` is given directly.
+    beta : tuple of float or None
+        Sensitivity per colourant where given directly (overrides ``blue_wool``).
+    unmixed : tuple of str
+        Colourants whose concentrations are unmixed from texture colours.
+    fixed : tuple of (str, float)
+        Concentrations of the other colourants, the same for every texel.
+    yields : tuple of (str, str, float)
+        ``(source, product, yield)``: what ``source`` loses, ``product`` gains × yield.
+    calibration_light : str
+        Light of the Blue Wool calibration (UV-filtered unless the colourant only
+        reacts to UV, e.g. lignin, when ``calibration_uv_filter`` is False).
+    thickness, layers, steps, scheme
+        Medium thickness and solver settings (defaults: the accuracy study's choice).
+    description : str
+        One line for the UI.
+    """
+
+    name: str
+    colourants: tuple
+    substrate: str
+    blue_wool: tuple
+    unmixed: tuple
+    description: str = ""
+    beta: tuple | None = None
+    fixed: tuple = ()
+    yields: tuple = ()
+    calibration_light: str = "daylight"
+    calibration_uv_filter: bool = True
+    thickness: float = 1.0
+    layers: int | None = None
+    steps: int | None = None
+    scheme: str | None = None
+
+    def __post_init__(self):
+        C = len(self.colourants)
+        if len(self.blue_wool) != C:
+            raise ValueError(f"recipe {self.name!r}: blue_wool needs one class per colourant")
+        if self.beta is not None and len(self.beta) != C:
+            raise ValueError(f"recipe {self.name!r}: beta needs one value per colourant")
+        unknown = set(self.unmixed) | {name for name, _ in self.fixed}
+        unknown -= set(self.colourants)
+        if unknown:
+            raise ValueError(f"recipe {self.name!r}: unknown colourants {sorted(unknown)}")
+        for k in self.blue_wool:
+            if k is not None:
+                blue_wool_dose(k)
+
+    # -- derived views -------------------------------------------------------------
+
+    def index(self, colourant):
+        return self.colourants.index(colourant)
+
+    def solver(self):
+        """Keyword arguments for :func:`.fading.simulate` (layers, steps, scheme)."""
+        defaults = inspect.signature(simulate).parameters
+        return {k: (getattr(self, k) if getattr(self, k) is not None else defaults[k].default)
+                for k in ("layers", "steps", "scheme")}
+
+    def yield_matrix(self):
+        """(C, C) yields matrix for :func:`.fading.simulate`, or None."""
+        if not self.yields:
+            return None
+        Y = np.zeros((len(self.colourants),) * 2)
+        for src, dst, y in self.yields:
+            Y[self.index(src), self.index(dst)] = y
+        return Y
+
+    def base_concentrations(self):
+        """(C,) concentrations with the fixed colourants set and the unmixed at 0."""
+        c = np.zeros(len(self.colourants))
+        for name, value in self.fixed:
+            c[self.index(name)] = value
+        return c
+
+    # -- user adjustments ------------------------------------------------------------
+
+    def with_blue_wool(self, blue_wool):
+        """The recipe with its most sensitive colourant at class ``blue_wool``.
+
+        The other colourants keep their class differences (printed paper's magenta
+        stays two classes below its cyan); classes are clipped to 1..8.
+        """
+        classes = [k for k in self.blue_wool if k is not None]
+        if not classes:
+            return self
+        shift = float(blue_wool) - min(classes)
+        blue_wool_dose(blue_wool)
+        return replace(self, beta=None, blue_wool=tuple(
+            None if k is None else float(np.clip(k + shift, 1.0, 8.0)) for k in self.blue_wool))
+
+    def with_beta(self, beta):
+        """The recipe with its most sensitive colourant at ``beta``, the others scaled."""
+        b = self.sensitivity()
+        if not np.isfinite(beta) or beta < 0:
+            raise ValueError(f"beta must be a finite number >= 0, got {beta!r}")
+        return replace(self, beta=tuple(float(x) for x in b * (beta / b.max())))
+
+    # -- physics ----------------------------------------------------------------------
+
+    def optics(self, wavelengths=WAVELENGTHS):
+        """``(A, S, substrate)``: (C, W), (C, W), (W,) on ``wavelengths``."""
+        return _optics(self.colourants, self.substrate, tuple(np.asarray(wavelengths, float)))
+
+    def sensitivity(self, wavelengths=WAVELENGTHS):
+        """(C,) ``beta`` per colourant, per (W m^-2 nm^-1 · nm · h · unit K)."""
+        if self.beta is not None:
+            return np.asarray(self.beta, dtype=float)
+        return np.array([
+            0.0 if k is None else beta_from_blue_wool(self, j, k, tuple(wavelengths))
+            for j, k in enumerate(self.blue_wool)])
+
+
+@functools.lru_cache(maxsize=64)
+def _optics(colourants, substrate, wavelengths):
+    lam = np.asarray(wavelengths)
+    data = [load_colourant(name, lam) for name in colourants]
+    A = np.stack([d.K for d in data])
+    S = np.stack([d.S for d in data])
+    return A, S, load_substrate(substrate, lam).reflectance
+
+
+def _calibration_fade(recipe, j, beta, dose, wavelengths):
+    """ΔE*ab of colourant ``j`` alone at full concentration after ``dose`` lux·h."""
+    A, S, ground = recipe.optics(wavelengths)
+    c = recipe.base_concentrations()
+    c[j] = 1.0
+    sens = np.zeros(len(recipe.colourants))
+    sens[j] = beta
+    E0 = light_spectrum(recipe.calibration_light, wavelengths, recipe.calibration_uv_filter)
+    r = simulate(A, S, c, sens, E0, ground, wavelengths, thickness=recipe.thickness,
+                 duration=dose, yields=recipe.yield_matrix(), **recipe.solver())
+    return float(delta_E_ab(reflectance_to_Lab(r.initial, wavelengths),
+                            reflectance_to_Lab(r.reflectance, wavelengths)))
+
+
+@functools.lru_cache(maxsize=256)
+def _beta_cached(recipe, j, blue_wool, wavelengths):
+    lam = np.asarray(wavelengths)
+    dose = blue_wool_dose(blue_wool)
+    # bracket in log(beta): the fade grows monotonically with beta
+    lo, hi = -30.0, -30.0
+    while _calibration_fade(recipe, j, np.exp(hi), dose, lam) < JND_DELTA_E:
+        lo, hi = hi, hi + 4.0
+        if hi > 30:
+            raise ValueError(
+                f"recipe {recipe.name!r}: colourant {recipe.colourants[j]!r} does not fade "
+                f"under the calibration light {recipe.calibration_light!r}"
+                f"{' with UV filter' if recipe.calibration_uv_filter else ''}; give beta directly")
+    for _ in range(50):                     # bisection to 1e-10 relative in beta
+        mid = 0.5 * (lo + hi)
+        if _calibration_fade(recipe, j, np.exp(mid), dose, lam) < JND_DELTA_E:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-10:
+            break
+    return float(np.exp(0.5 * (lo + hi)))
+
+
+def beta_from_blue_wool(recipe, j, blue_wool, wavelengths=WAVELENGTHS):
+    """``beta`` of colourant ``j`` of ``recipe`` for ISO Blue Wool class ``blue_wool``.
+
+    The colourant alone at full concentration on the recipe's substrate, lit by the
+    recipe's calibration light, fades by ΔE*ab = 1.6 after :func:`blue_wool_dose`.
+    Results are cached.
+
+    Returns
+    -------
+    float
+        ``beta`` in (W m^-2 nm^-1 · nm · h · unit K)^-1, i.e. for an irradiance
+        given as the light's spectrum at 1 lux and durations in hours.
+    """
+    return _beta_cached(replace(recipe, beta=None), int(j), float(blue_wool),
+                        tuple(np.asarray(wavelengths, float)))
+
+
+CMY = ("cyan", "magenta", "yellow")
+
+#: The bundled presets, by name.
+RECIPES = {r.name: r for r in (
+    Recipe(
+        name="printed-paper",
+        description="Dye-based print or poster on paper: magenta fades first, cyan last",
+        colourants=CMY, substrate="paper", unmixed=CMY,
+        blue_wool=(4.0, 2.0, 3.0)),
+    Recipe(
+        name="dyed-fabric",
+        description="Dyed textile, rug or curtain (CMY dyes on undyed wool)",
+        colourants=CMY, substrate="fabric", unmixed=CMY,
+        blue_wool=(5.0, 3.0, 4.0)),
+    Recipe(
+        name="painted-wood",
+        description="Painted or stained furniture (pigments over a white ground)",
+        colourants=CMY, substrate="white-ground", unmixed=CMY,
+        blue_wool=(6.0, 4.0, 5.0)),
+    Recipe(
+        name="bare-wood",
+        description="Unfinished wood or newsprint: lignin yellows into quinones in UV light",
+        colourants=("lignin", "quinone"), substrate="wood", unmixed=(),
+        fixed=(("lignin", 0.5),), yields=(("lignin", "quinone", 0.6),),
+        blue_wool=(2.0, None), calibration_uv_filter=False),
+)}
+
+
+def get_recipe(name):
+    """A bundled recipe by name; ValueError listing the valid names otherwise."""
+    try:
+        return RECIPES[name]
+    except KeyError:
+        raise ValueError(f"unknown recipe {name!r}; valid recipes: {', '.join(RECIPES)}") from None

@@ -1,0 +1,167 @@
+"""Unmixing: texel colours to colourant concentrations, by inverting the forward model.
+
+Before exposure the medium is homogeneous, so its reflectance is Kubelka's single
+layer over the substrate, exactly (:func:`forward_reflectance`). :class:`Unmixer`
+inverts it: for a colour it finds the concentrations of the recipe's unmixed
+colourants whose colour is nearest in CIELAB, within [0, 1] (colours outside the
+recipe's gamut get the nearest reachable mixture). The inversion is a projected
+Gauss–Newton solve in CIELAB, started from the nearest of a table of forward
+samples. For images, a coarse 17³ table over encoded sRGB gives each unique colour
+its starting point and a few Gauss–Newton steps make it exact.
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from .colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_encode, xyz_weights
+from .kubelka import kubelka_layer, over_ground
+from .spectra import WAVELENGTHS
+
+__all__ = ["Unmixer", "forward_reflectance", "get_unmixer"]
+
+
+def forward_reflectance(recipe, c, wavelengths=WAVELENGTHS):
+    """Reflectance of the unexposed medium for unmixed concentrations ``c``.
+
+    Parameters
+    ----------
+    recipe : Recipe
+    c : array_like, shape (N, Cu)
+        Concentrations of ``recipe.unmixed`` (the fixed colourants are added).
+
+    Returns
+    -------
+    ndarray, shape (N, W)
+        ``over_ground(kubelka_layer(K, S, thickness), substrate)`` with ``K = f @ A``.
+    """
+    A, S, ground = recipe.optics(wavelengths)
+    c = np.asarray(c, dtype=float)
+    c = c.reshape(c.shape[0] if c.ndim > 1 else 1, len(recipe.unmixed))
+    f = np.tile(recipe.base_concentrations(), (c.shape[0], 1))
+    for k, name in enumerate(recipe.unmixed):
+        f[:, recipe.index(name)] = c[:, k]
+    return over_ground(*kubelka_layer(f @ A, f @ S, recipe.thickness), ground)
+
+
+class Unmixer:
+    """Inverse of the forward model for one recipe.
+
+    Parameters
+    ----------
+    recipe : Recipe
+        Its ``unmixed`` colourants are solved for.
+    wavelengths : array_like
+        Spectral grid.
+    lut_size : int
+        Nodes per axis of the encoded-sRGB lookup table.
+    """
+
+    def __init__(self, recipe, wavelengths=WAVELENGTHS, lut_size=17):
+        self.recipe = recipe
+        self.wavelengths = np.asarray(wavelengths, dtype=float)
+        self.Cu = len(recipe.unmixed)
+        self.M = xyz_weights(self.wavelengths)
+        self.lut_size = lut_size
+        self._lut = None
+        # forward samples for the starting guesses
+        axis = np.linspace(0.0, 1.0, 13) ** 1.5
+        self._seeds = (np.stack(np.meshgrid(*[axis] * self.Cu, indexing="ij"), -1)
+                       .reshape(-1, self.Cu) if self.Cu else np.zeros((1, 0)))
+        self._seed_Lab = self.Lab(self._seeds)
+
+    def XYZ(self, c):
+        """XYZ (D65, Y of white = 1) of unmixed concentrations ``c`` (N, Cu)."""
+        return forward_reflectance(self.recipe, c, self.wavelengths) @ self.M
+
+    def Lab(self, c):
+        return XYZ_to_Lab(self.XYZ(c))
+
+    def solve_Lab(self, Lab, iterations=12):
+        """Concentrations (N, Cu) whose colour is nearest to ``Lab`` (N, 3)."""
+        Lab = np.asarray(Lab, dtype=float).reshape(-1, 3)
+        N = Lab.shape[0]
+        if self.Cu == 0:
+            return np.zeros((N, 0))
+        from scipy.spatial import cKDTree
+
+        _, nearest = cKDTree(self._seed_Lab).query(Lab)
+        return self._gauss_newton(self._seeds[nearest].copy(), Lab, iterations)
+
+    def _gauss_newton(self, c, Lab, iterations, h=1e-5):
+        """Projected, safeguarded Gauss–Newton steps on ``|Lab(c) - Lab|^2`` over [0, 1]."""
+        N = c.shape[0]
+        for _ in range(iterations):
+            r = self.Lab(c) - Lab                                   # (N, 3) residual
+            J = np.empty((N, 3, self.Cu))
+            for k in range(self.Cu):                                # one-sided differences,
+                step = np.where(c[:, k] + h <= 1.0, h, -h)           # inside the box
+                ck = c.copy()
+                ck[:, k] += step
+                J[:, :, k] = (self.Lab(ck) - Lab - r) / step[:, None]
+            JtJ = np.einsum("nik,nil->nkl", J, J) + 1e-6 * np.eye(self.Cu)
+            Jtr = np.einsum("nik,ni->nk", J, r)
+            delta = np.linalg.solve(JtJ, Jtr[..., None])[..., 0]
+            trial = np.clip(c - delta, 0.0, 1.0)
+            better = np.sum((self.Lab(trial) - Lab) ** 2, axis=1) <= np.sum(r * r, axis=1)
+            c[better] = trial[better]
+            if not better.any():
+                break
+        return c
+
+    def solve_linear_srgb(self, rgb, iterations=12):
+        """Concentrations for linear sRGB colours (N, 3) (exact solve, no table)."""
+        return self.solve_Lab(XYZ_to_Lab(linear_srgb_to_XYZ(np.asarray(rgb, float))), iterations)
+
+    @property
+    def lut(self):
+        """The (n, n, n, Cu) table over encoded sRGB, built on first use."""
+        if self._lut is None:
+            n = self.lut_size
+            axis = np.linspace(0.0, 1.0, n)
+            enc = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
+            from .colorimetry import srgb_decode
+
+            self._lut = self.solve_linear_srgb(srgb_decode(enc)).reshape(n, n, n, self.Cu)
+        return self._lut
+
+    def unmix(self, rgb, encoded=False, refine=4):
+        """Concentrations for colours (N, 3): table lookup, then ``refine`` solver steps.
+
+        Parameters
+        ----------
+        rgb : array_like, shape (N, 3)
+            Linear sRGB (or encoded sRGB with ``encoded=True``), clipped to [0, 1].
+        refine : int
+            Gauss–Newton iterations from the table's trilinear estimate (0: table only).
+        """
+        rgb = np.asarray(rgb, dtype=float).reshape(-1, 3)
+        if self.Cu == 0:
+            return np.zeros((rgb.shape[0], 0))
+        e = np.clip(rgb if encoded else srgb_encode(np.clip(rgb, 0.0, 1.0)), 0.0, 1.0)
+        n = self.lut_size
+        x = e * (n - 1)
+        i = np.minimum(x.astype(np.int64), n - 2)
+        f = x - i
+        lut = self.lut
+        out = np.zeros((rgb.shape[0], self.Cu))
+        for bits in np.ndindex(2, 2, 2):
+            w = np.ones(rgb.shape[0])
+            for k, b in enumerate(bits):
+                w = w * (f[:, k] if b else 1.0 - f[:, k])
+            out += w[:, None] * lut[i[:, 0] + bits[0], i[:, 1] + bits[1], i[:, 2] + bits[2]]
+        np.clip(out, 0.0, 1.0, out=out)
+        if refine:
+            from .colorimetry import srgb_decode
+
+            lin = srgb_decode(e)
+            out = self._gauss_newton(out, XYZ_to_Lab(linear_srgb_to_XYZ(lin)), refine)
+        return out
+
+
+@functools.lru_cache(maxsize=16)
+def get_unmixer(recipe, wavelengths=tuple(WAVELENGTHS)):
+    """A cached :class:`Unmixer` per recipe (its table is built once per process)."""
+    return Unmixer(recipe, np.asarray(wavelengths))

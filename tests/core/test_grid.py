@@ -1,0 +1,152 @@
+"""The mixture grid: axes, simplex lattice, accuracy against direct simulation, cache."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, reflectance_to_XYZ
+from lightfade_addon.core.fading import simulate
+from lightfade_addon.core.grid import (
+    FadeGrid, GridSettings, build_grid, concentration_axis, dose_axis, grid_cache_dir,
+    load_or_build, mix_lattice, simplex_interpolation)
+from lightfade_addon.core.recipes import RECIPES
+from lightfade_addon.core.spectra import WAVELENGTHS as LAM, light_spectrum
+
+PAPER = RECIPES["printed-paper"]
+DAYLIGHT = light_spectrum("daylight-glass")[None]
+HEAVY = 2000 * 8 * 365 * 20          # 20 years of 2000 lux, 8 h a day: a heavy fade
+
+
+@pytest.fixture(scope="module")
+def grid():
+    return build_grid(PAPER, DAYLIGHT, HEAVY)
+
+
+def direct(c, doses, E=DAYLIGHT[0], recipe=PAPER):
+    A, S, g = recipe.optics()
+    r = simulate(A, S, c, recipe.sensitivity(), E, g, LAM, duration=max(doses), record=doses,
+                 **recipe.solver())
+    return reflectance_to_XYZ(r.initial, LAM), reflectance_to_XYZ(r.history, LAM)
+
+
+class TestAxes:
+    def test_concentration_axis_is_denser_near_zero(self):
+        a = concentration_axis(10, 1.6)
+        assert a[0] == 0 and a[-1] == 1 and np.all(np.diff(np.diff(a)) > 0)
+
+    def test_dose_axis(self):
+        d = dose_axis(5, 16.0)
+        np.testing.assert_allclose(d, [0, 1, 4, 9, 16])
+        with pytest.raises(ValueError):
+            dose_axis(5, 0.0)
+
+    @pytest.mark.parametrize("S, q, count", [(1, 4, 1), (2, 4, 5), (3, 2, 6), (3, 4, 15)])
+    def test_mix_lattice(self, S, q, count):
+        L = mix_lattice(S, q)
+        assert L.shape == (count, S)
+        np.testing.assert_allclose(L.sum(axis=1), 1.0)
+
+    @pytest.mark.parametrize("S, q", [(2, 2), (3, 4), (4, 3)])
+    def test_simplex_interpolation_reproduces_the_weights(self, S, q):
+        w = np.random.default_rng(S).dirichlet(np.ones(S), 500)
+        w[:3] = mix_lattice(S, q)[:3]                      # exactly on nodes too
+        nodes, bary = simplex_interpolation(w, q)
+        assert np.all(bary >= -1e-12)
+        np.testing.assert_allclose(bary.sum(axis=1), 1.0)
+        np.testing.assert_allclose((bary[..., None] * mix_lattice(S, q)[nodes]).sum(1), w,
+                                   atol=1e-12)
+
+
+class TestAccuracy:
+    def test_no_change_at_zero_dose(self, grid):
+        assert np.all(grid.change[:, 0] == 0)
+        c = np.random.default_rng(0).uniform(0, 1, (20, 3))
+        np.testing.assert_array_equal(grid.log_change(c, np.zeros(20)), 0.0)
+
+    def test_exact_at_the_nodes(self, grid):
+        c = np.array([[grid.axes[0][3], grid.axes[1][7], grid.axes[2][0]]])
+        X0, X = direct(c, grid.doses[1:])              # the grid's own time steps
+        d = grid.doses[[5, 20]]
+        np.testing.assert_allclose(grid.log_change(np.repeat(c, 2, 0), d),
+                                   np.log(X[[4, 19], 0] / X0[0]), atol=1e-5)
+
+    def test_held_out_mixtures_within_one_delta_e00(self, grid):
+        c = np.random.default_rng(11).uniform(0, 1, (120, 3))
+        doses = np.array([0.05, 0.37, 0.81]) * HEAVY
+        X0, X = direct(c, doses)
+        for k, d in enumerate(doses):
+            aged = X0 * np.exp(grid.log_change(c, np.full(len(c), d)))
+            err = delta_E_2000(XYZ_to_Lab(aged), XYZ_to_Lab(X[k]))
+            assert err.max() < 1.0, (d, err.max())
+        fade = delta_E_2000(XYZ_to_Lab(X0), XYZ_to_Lab(X[-1]))
+        assert fade.mean() > 15                          # the test is of a heavy fade
+
+    def test_mixed_spectra_within_one_delta_e00(self):
+        E = np.stack([light_spectrum("daylight-glass"), light_spectrum("incandescent")])
+        g = build_grid(PAPER, E, HEAVY)
+        c = np.random.default_rng(3).uniform(0, 1, (60, 3))
+        for w in (0.2, 0.5, 0.9):
+            X0, X = direct(c, [0.6 * HEAVY], E=(1 - w) * E[0] + w * E[1])
+            mix = np.tile([1 - w, w], (len(c), 1))
+            aged = X0 * np.exp(g.log_change(c, np.full(len(c), 0.6 * HEAVY), mix))
+            assert delta_E_2000(XYZ_to_Lab(aged), XYZ_to_Lab(X[0])).max() < 1.0
+
+    def test_recipe_without_unmixed_colourants(self):
+        wood = RECIPES["bare-wood"]
+        g = build_grid(wood, light_spectrum("daylight")[None], 5e6, GridSettings(doses=9))
+        assert g.axes == [] and g.change.shape == (1, 9, 3)
+        lc = g.log_change(np.zeros((2, 0)), [0.0, 5e6])
+        assert np.all(lc[0] == 0) and lc[1, 2] < lc[1, 1]   # blue drops most: yellowing
+
+
+class TestSerialisation:
+    def test_bytes_round_trip(self, grid):
+        g2 = FadeGrid.from_bytes(grid.to_bytes())
+        assert g2.key == grid.key
+        np.testing.assert_array_equal(g2.change, grid.change)
+        np.testing.assert_array_equal(g2.doses, grid.doses)
+
+    @pytest.mark.parametrize("damage", ["truncate", "flip"])
+    def test_corrupt_bytes_are_detected(self, grid, damage):
+        data = bytearray(grid.to_bytes())
+        if damage == "truncate":
+            data = data[: len(data) // 2]
+        else:
+            data[len(data) // 2] ^= 0xFF
+        with pytest.raises(ValueError):
+            FadeGrid.from_bytes(bytes(data))
+
+
+class TestCache:
+    def test_second_call_loads_and_corrupt_file_is_rebuilt(self, tmp_path, monkeypatch):
+        monkeypatch.setenv("LIGHTFADE_CACHE", str(tmp_path))
+        settings = GridSettings(points=3, doses=5)
+        g1 = load_or_build(PAPER, DAYLIGHT, 1e6, settings)
+        files = list(tmp_path.glob("grid-*.npz"))
+        assert len(files) == 1 and grid_cache_dir() == tmp_path
+        mtime = files[0].stat().st_mtime_ns
+        g2 = load_or_build(PAPER, DAYLIGHT, 1e6, settings)
+        assert files[0].stat().st_mtime_ns == mtime          # loaded, not rebuilt
+        np.testing.assert_array_equal(g1.change, g2.change)
+        files[0].write_bytes(files[0].read_bytes()[:100])    # a partial file
+        g3 = load_or_build(PAPER, DAYLIGHT, 1e6, settings)
+        np.testing.assert_array_equal(g1.change, g3.change)
+        FadeGrid.from_bytes(files[0].read_bytes())           # valid again
+
+    def test_two_processes_building_the_same_grid(self, tmp_path):
+        code = ("from lightfade_addon.core.grid import *;"
+                "from lightfade_addon.core.recipes import RECIPES;"
+                "from lightfade_addon.core.spectra import light_spectrum;"
+                "load_or_build(RECIPES['printed-paper'], light_spectrum('daylight')[None], 2e6,"
+                " GridSettings(points=4, doses=9))")
+        env = dict(os.environ, LIGHTFADE_CACHE=str(tmp_path))
+        root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+        procs = [subprocess.Popen([sys.executable, "-c", code], cwd=root, env=env)
+                 for _ in range(2)]
+        assert all(p.wait(timeout=300) == 0 for p in procs)
+        files = list(tmp_path.glob("grid-*.npz"))
+        assert len(files) == 1 and not list(tmp_path.glob(".grid-*"))
+        FadeGrid.from_bytes(files[0].read_bytes())

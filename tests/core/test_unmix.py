@@ -1,0 +1,55 @@
+"""Unmixing colours into colourant concentrations."""
+
+import numpy as np
+import pytest
+
+from lightfade_addon.core.colorimetry import XYZ_to_linear_srgb, delta_E_2000, srgb_encode
+from lightfade_addon.core.recipes import RECIPES
+from lightfade_addon.core.unmix import Unmixer, forward_reflectance, get_unmixer
+
+
+@pytest.fixture(scope="module")
+def unmixer():
+    return get_unmixer(RECIPES["printed-paper"])
+
+
+class TestUnmixer:
+    def test_exact_solve_inverts_the_forward_model(self, unmixer):
+        c = np.random.default_rng(0).uniform(0, 1, (300, 3))
+        c2 = unmixer.solve_Lab(unmixer.Lab(c))
+        assert delta_E_2000(unmixer.Lab(c2), unmixer.Lab(c)).max() < 1e-6
+        np.testing.assert_allclose(c2, c, atol=1e-6)
+
+    def test_table_plus_refinement_is_close(self, unmixer):
+        c = np.random.default_rng(1).uniform(0, 1, (500, 3))
+        rgb = XYZ_to_linear_srgb(unmixer.XYZ(c))
+        inside = np.all((rgb >= 0) & (rgb <= 1), axis=1)
+        c2 = unmixer.unmix(rgb[inside])
+        assert delta_E_2000(unmixer.Lab(c2), unmixer.Lab(c[inside])).max() < 0.1
+        enc = unmixer.unmix(srgb_encode(rgb[inside]), encoded=True)
+        np.testing.assert_allclose(enc, c2, atol=1e-9)
+
+    def test_out_of_gamut_gets_the_nearest_reachable_mixture(self, unmixer):
+        green = np.array([[0.0, 1.0, 0.0], [1.0, 1.0, 1.0], [0.0, 0.0, 0.0]])
+        c = unmixer.unmix(green)
+        assert np.all((c >= 0) & (c <= 1))
+        np.testing.assert_allclose(c[1], 0.0, atol=1e-3)       # white: bare paper
+        np.testing.assert_allclose(c[2], 1.0, atol=1e-3)       # black: all dyes at full
+        # no mixture is closer to pure green than the one found
+        grid = np.stack(np.meshgrid(*[np.linspace(0, 1, 9)] * 3, indexing="ij"), -1).reshape(-1, 3)
+        from lightfade_addon.core.colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ
+
+        target = XYZ_to_Lab(linear_srgb_to_XYZ(green[:1]))
+        best = np.sqrt(np.min(np.sum((unmixer.Lab(grid) - target) ** 2, axis=1)))
+        found = np.sqrt(np.sum((unmixer.Lab(c[:1]) - target) ** 2))
+        assert found <= best + 0.1          # ΔE*ab to pure green, within 0.1 of a 9³ search
+
+    def test_recipe_with_nothing_to_unmix(self):
+        u = Unmixer(RECIPES["bare-wood"])
+        assert u.unmix(np.full((4, 3), 0.5)).shape == (4, 0)
+
+
+def test_forward_reflectance_of_nothing_is_the_substrate():
+    r = RECIPES["dyed-fabric"]
+    _, _, ground = r.optics()
+    np.testing.assert_allclose(forward_reflectance(r, np.zeros((1, 3)))[0], ground, atol=1e-12)
