@@ -1,12 +1,12 @@
-"""LightFade's Blender shell: properties, operators, panels (and, later, handlers).
+"""LightFade's Blender shell: properties, operators, panels and handlers.
 
 :func:`register` registers :data:`classes` in order and then attaches the property
-groups; :func:`unregister` undoes both in reverse.  Neither touches scene data.
+groups and handlers; :func:`unregister` undoes them in reverse.  Neither touches scene data.
 """
 
 import bpy
 
-from . import panels, properties
+from . import handlers, panels, properties
 from .operators import CLASSES as _OPERATOR_CLASSES
 
 classes = (
@@ -21,10 +21,12 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.register_pointers()
+    handlers.register()
 
 
 def unregister():
     """Exactly undo :func:`register`, in reverse order."""
+    handlers.unregister()
     properties.unregister_pointers()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

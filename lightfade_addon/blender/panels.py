@@ -40,8 +40,14 @@ class VIEW3D_PT_lightfade_aging(LightFadeSidebarMixin, bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.prop(context.scene.lightfade, "years")
-        # --- LEAD: the "Age" and "Reset" operators and preview settings go here. ---
-        layout.prop(context.scene.lightfade, "preview_resolution")
+        row = layout.row(align=True)
+        row.operator("lightfade.age", icon="TIME")
+        row.operator("lightfade.reset", icon="LOOP_BACK")
+        aged = [m for m in bpy.data.materials if m.lightfade.aged_image is not None]
+        if aged:
+            col = layout.column(align=True)
+            for m in aged[:8]:
+                col.label(text=f"{m.name}: {m.lightfade.aged_object}", icon="MATERIAL")
 
 
 class VIEW3D_PT_lightfade_bake(LightFadeSidebarMixin, bpy.types.Panel):

@@ -35,6 +35,8 @@ from bpy.props import (
 )
 from bpy.types import PropertyGroup
 
+from ..core import recipes as _recipes
+
 # --------------------------------------------------------------------------- spectra
 
 #: Spectrum enum identifier -> the id the core uses for that light spectrum.
@@ -111,12 +113,11 @@ RECIPE_IDS = {
     "BARE_WOOD": "bare-wood",
 }
 
-#: Blue Wool class a recipe starts from (ISO 105-B; 1 = very fugitive, 8 = very stable).
+#: Blue Wool class a recipe starts from (ISO 105-B; 1 = very fugitive, 8 = very stable):
+#: the class of its most light-sensitive colourant in the core's recipe.
 RECIPE_BLUE_WOOL = {
-    "PRINTED_PAPER": 3,
-    "DYED_FABRIC": 4,
-    "PAINTED_WOOD": 5,
-    "BARE_WOOD": 4,
+    key: int(min(k for k in _recipes.RECIPES[core_id].blue_wool if k is not None))
+    for key, core_id in RECIPE_IDS.items()
 }
 
 RECIPE_ITEMS = (
@@ -207,19 +208,43 @@ class LIGHTFADE_PG_material(PropertyGroup):
         max=8,
     )
     beta: FloatProperty(
-        name="β",
-        description="Colourant sensitivity β of the fading model (paper, equation 3): fractional loss of "
-        "concentration per unit of absorbed spectral fluence, in the core's units",
-        default=1.0,
+        name="β (×10⁻⁶)",
+        description="Sensitivity β of the most light-sensitive colourant (paper, equation 3), in "
+        "millionths of 1 / (W m⁻² nm⁻¹ · nm · h · K): the other colourants keep their ratios to it. "
+        "Blue Wool class 2 on paper is about 23",
+        default=23.0,
         min=0.0,
-        soft_max=100.0,
-        precision=4,
+        soft_max=1000.0,
+        precision=3,
     )
     albedo_image: PointerProperty(
         name="Albedo Image",
         type=bpy.types.Image,
         description="Texture holding the unaged colour; empty = the image feeding the Principled BSDF "
         "Base Color",
+    )
+    # -- state written by the Age operator (read by Reset and the handlers) --
+    aged_image: PointerProperty(
+        name="Aged Image",
+        type=bpy.types.Image,
+        description="The image LightFade writes the aged colour into (the original is never changed)",
+    )
+    aged_object: StringProperty(
+        name="Aged Object",
+        description="The object whose exposure maps aged this material",
+    )
+    original_node: StringProperty(
+        name="Original Node",
+        description="Name of the Image Texture node that fed Base Color before aging",
+    )
+    original_output: StringProperty(
+        name="Original Output",
+        description="Identifier of the output socket that fed Base Color before aging",
+    )
+    flat_albedo: BoolProperty(
+        name="Flat Albedo",
+        description="The material had a flat Base Color, which LightFade turned into a texture",
+        default=False,
     )
 
 
@@ -264,10 +289,17 @@ class LIGHTFADE_PG_object(PropertyGroup):
     )
 
 
+def _on_years_changed(self, context):
+    # Dragging the slider: update the aged textures (keyframed values go through the
+    # frame-change handler instead: update callbacks do not fire for F-curves).
+    from . import handlers
+
+    handlers.years_changed(self.id_data)
+
+
 class LIGHTFADE_PG_scene(PropertyGroup):
     """Scene-wide LightFade settings: the years slider and the bake settings."""
 
-    # The lead adds ``update=`` (the aging handler) to ``years``.
     years: FloatProperty(
         name="Years",
         description="Years of light exposure to show (animatable: keyframe it for a time-lapse)",
@@ -276,6 +308,7 @@ class LIGHTFADE_PG_scene(PropertyGroup):
         soft_max=100.0,
         precision=1,
         options={"ANIMATABLE"},
+        update=_on_years_changed,
     )
     bake_resolution: IntProperty(
         name="Resolution",
@@ -298,13 +331,6 @@ class LIGHTFADE_PG_scene(PropertyGroup):
         min=0,
         max=64,
         subtype="PIXEL",
-    )
-    preview_resolution: IntProperty(
-        name="Preview Resolution",
-        description="Largest side in pixels of the aged textures while scrubbing the years slider",
-        default=512,
-        min=64,
-        max=8192,
     )
 
 

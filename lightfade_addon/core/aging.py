@@ -137,10 +137,13 @@ class TextureAger:
     cache : bool
         Use the on-disk grid cache.
     progress : callable(fraction, message), optional
+    store : MutableMapping[str, bytes], optional
+        Grid store consulted before the disk cache (see :func:`.grid.load_or_build`).
     """
 
     def __init__(self, rgb, recipe, lights, exposure=None, *, max_years=100.0,
-                 encoding="linear", settings=GridSettings(), cache=True, progress=None):
+                 encoding="linear", settings=GridSettings(), cache=True, progress=None,
+                 store=None):
         self.recipe = _as_recipe(recipe)
         if not isinstance(self.recipe, Recipe):
             raise TypeError("recipe must be a Recipe or a recipe name")
@@ -172,7 +175,7 @@ class TextureAger:
         max_dose = max(float(self.rate.max()) * self.max_years, 1.0)
         say(0.0, "building the fading grid")
         self.grid = load_or_build(self.recipe, self.spectra, max_dose, settings, cache=cache,
-                                  progress=lambda f, m: say(0.6 * f, m))
+                                  progress=lambda f, m: say(0.6 * f, m), store=store)
 
         say(0.6, "unmixing colours")
         enc = np.clip(flat if encoding == "srgb" else srgb_encode(np.clip(flat, 0, 1)), 0, 1)

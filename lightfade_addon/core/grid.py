@@ -412,16 +412,38 @@ def grid_cache_dir():
 
 
 def load_or_build(recipe, spectra, max_dose, settings=GridSettings(), wavelengths=WAVELENGTHS,
-                  cache=True, progress=None):
-    """The grid from the disk cache, or built and cached.
+                  cache=True, progress=None, store=None):
+    """The grid from ``store``, the disk cache, or built (and put in both).
 
     The file name is the grid's key, so a change to anything it depends on makes a
     new file. Writes go to a temporary file in the same folder and are renamed into
     place (atomic on POSIX and Windows), so two processes building the same grid
     never leave a partial file; a corrupt or partial file is detected by its
     checksum and rebuilt.
+
+    Parameters
+    ----------
+    store : MutableMapping[str, bytes], optional
+        Looked in first and given every grid used (the Blender layer keeps the
+        grids a .blend needs inside the file, so render nodes never simulate).
     """
     key = grid_key(recipe, spectra, max_dose, settings, wavelengths)
+    if store is not None and key in store:
+        try:
+            grid = FadeGrid.from_bytes(store[key])
+            if grid.key == key:
+                return grid
+        except ValueError:
+            pass
+    grid = _load_or_build_on_disk(key, recipe, spectra, max_dose, settings, wavelengths, cache,
+                                  progress)
+    if store is not None:
+        store[key] = grid.to_bytes()
+    return grid
+
+
+def _load_or_build_on_disk(key, recipe, spectra, max_dose, settings, wavelengths, cache,
+                           progress):
     path = grid_cache_dir() / f"grid-{key}.npz"
     if cache and path.exists():
         try:

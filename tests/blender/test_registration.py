@@ -91,8 +91,7 @@ class TestRegister:
 class TestDefaults:
     def test_scene(self, blender):
         s = bpy.context.scene.lightfade
-        assert (s.years, s.bake_resolution, s.bake_samples, s.bake_margin, s.preview_resolution) == (
-            0.0, 1024, 64, 16, 512)
+        assert (s.years, s.bake_resolution, s.bake_samples, s.bake_margin) == (0.0, 1024, 64, 16)
         prop = s.bl_rna.properties["bake_resolution"]
         assert (prop.hard_min, prop.hard_max) == (64, 8192)
         assert s.bl_rna.properties["years"].is_animatable
@@ -123,12 +122,14 @@ class TestDefaults:
     def test_material(self, blender):
         from lightfade_addon.blender.properties import RECIPE_IDS
 
+        from lightfade_addon.core.recipes import RECIPES
+
         m = bpy.data.materials.new("M").lightfade
         assert (m.enabled, m.recipe, m.sensitivity_mode, m.blue_wool, m.albedo_image) == (
-            False, "PRINTED_PAPER", "BLUE_WOOL", 3, None)
+            False, "PRINTED_PAPER", "BLUE_WOOL", 2, None)     # the print's magenta: class 2
         assert set(RECIPE_IDS.values()) == {"printed-paper", "dyed-fabric", "painted-wood", "bare-wood"}
         m.recipe = "DYED_FABRIC"
-        assert m.blue_wool == 4  # the recipe's default class
+        assert m.blue_wool == min(RECIPES["dyed-fabric"].blue_wool)  # the recipe's weakest class
         m.blue_wool = 9
         assert m.blue_wool == 8
 

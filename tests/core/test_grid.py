@@ -150,3 +150,16 @@ class TestCache:
         files = list(tmp_path.glob("grid-*.npz"))
         assert len(files) == 1 and not list(tmp_path.glob(".grid-*"))
         FadeGrid.from_bytes(files[0].read_bytes())
+
+
+def test_store_is_used_before_building(tmp_path, monkeypatch):
+    monkeypatch.setenv("LIGHTFADE_CACHE", str(tmp_path))
+    store = {}
+    settings = GridSettings(points=3, doses=5)
+    g = load_or_build(PAPER, DAYLIGHT, 3e6, settings, cache=False, store=store)
+    assert list(store) == [g.key]
+    from lightfade_addon.core import grid as gridmod
+
+    monkeypatch.setattr(gridmod, "build_grid", lambda *a, **k: pytest.fail("rebuilt"))
+    g2 = load_or_build(PAPER, DAYLIGHT, 3e6, settings, cache=False, store=store)
+    np.testing.assert_array_equal(g2.change, g.change)

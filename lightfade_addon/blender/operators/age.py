@@ -1,0 +1,54 @@
+"""``lightfade.age``: age the enabled materials and show the scene's years."""
+
+import bpy
+from bpy.props import FloatProperty
+
+from ..aging import AgingError, age_scene
+
+
+class LIGHTFADE_OT_age(bpy.types.Operator):
+    """Age the materials with LightFade enabled (of the selected meshes, or all): unmix the \
+albedo, simulate or load the fading grid, and wire new aged images into the materials \
+(the originals are kept)"""
+
+    bl_idname = "lightfade.age"
+    bl_label = "Age"
+    bl_options = {"REGISTER", "UNDO"}
+
+    years: FloatProperty(
+        name="Years",
+        description="Years of exposure to show (negative: use the scene's years slider)",
+        default=-1.0,
+        soft_min=0.0,
+        soft_max=100.0,
+    )
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene is not None
+
+    def execute(self, context):
+        scene = context.scene
+        years = scene.lightfade.years if self.years < 0 else self.years
+        wm = context.window_manager
+        use_progress = context.window is not None
+        if use_progress:
+            wm.progress_begin(0, 1000)
+
+        def progress(fraction, message):
+            if use_progress:
+                wm.progress_update(int(1000 * fraction))
+            elif bpy.app.background:
+                print(f"LightFade: {100 * fraction:5.1f}% {message}")
+
+        try:
+            images = age_scene(scene, years, context.selected_objects, progress,
+                               report=lambda msg: self.report({"WARNING"}, msg))
+        except AgingError as err:
+            self.report({"ERROR"}, str(err))
+            return {"CANCELLED"}
+        finally:
+            if use_progress:
+                wm.progress_end()
+        self.report({"INFO"}, f"Aged {len(images)} material(s) to {years:g} years")
+        return {"FINISHED"}

@@ -1,0 +1,231 @@
+"""Aging in Blender: bake, age, years slider, keyframes, reset, save/reload, bad input."""
+
+import hashlib
+
+import numpy as np
+import pytest
+
+from lightfade_addon.core.colorimetry import (
+    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
+
+bpy = pytest.importorskip("bpy")
+
+
+def rgba(image):
+    a = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
+    image.pixels.foreach_get(a)
+    return a.reshape(image.size[1], image.size[0], 4)
+
+
+def lab_linear(rgb):
+    return XYZ_to_Lab(linear_srgb_to_XYZ(np.asarray(rgb, float).reshape(-1, 3)))
+
+
+@pytest.fixture
+def carpet(floor_scene):
+    """The floor scene with a uniform 64² wool-red albedo, its exposure baked."""
+    mat, albedo = floor_scene["material"], floor_scene["albedo"]
+    albedo.scale(64, 64)
+    px = np.empty((64, 64, 4), np.float32)
+    px[...] = (0.8, 0.2, 0.45, 1.0)
+    albedo.pixels.foreach_set(px.ravel())
+    albedo.pack()
+    mat.lightfade.recipe = "DYED_FABRIC"
+    floor_scene["sun"].data.energy = 30.0                   # ~20,000 lux of sunshine
+    assert bpy.ops.lightfade.bake_exposure() == {"FINISHED"}
+    floor_scene["original"] = rgba(albedo).copy()
+    return floor_scene
+
+
+def footprint(obj):
+    lux = rgba(obj.lightfade.exposure_maps["Sun"].image)[..., 0]
+    return lux < 0.05 * np.percentile(lux, 90), lux > 0.5 * np.percentile(lux, 90)
+
+
+class TestAge:
+    def test_shadow_keeps_its_colour_lit_texels_fade(self, carpet):
+        assert bpy.ops.lightfade.age(years=5) == {"FINISHED"}
+        mat = carpet["material"]
+        aged = rgba(mat.lightfade.aged_image)[..., :3]
+        original = srgb_decode(carpet["original"][..., :3])
+        dE = delta_E_2000(lab_linear(aged), lab_linear(original)).reshape(64, 64)
+        dark, lit = footprint(carpet["floor"])
+        assert dark.sum() > 10 and lit.sum() > 100
+        assert dE[dark].max() < 0.5
+        assert dE[lit].mean() > 5
+
+    def test_original_is_untouched_and_still_in_the_file(self, carpet):
+        before = hashlib.sha256(rgba(carpet["albedo"]).tobytes()).hexdigest()
+        bpy.ops.lightfade.age(years=5)
+        bpy.context.scene.lightfade.years = 30
+        assert hashlib.sha256(rgba(carpet["albedo"]).tobytes()).hexdigest() == before
+        assert carpet["albedo"].name in bpy.data.images
+
+    def test_zero_years_reproduces_the_original(self, carpet):
+        bpy.ops.lightfade.age(years=0)
+        aged = rgba(carpet["material"].lightfade.aged_image)[..., :3]
+        original = srgb_decode(carpet["original"][..., :3])
+        assert delta_E_2000(lab_linear(aged), lab_linear(original)).max() < 0.01
+
+    def test_years_slider_updates_the_texture(self, carpet):
+        bpy.ops.lightfade.age(years=1)
+        image = carpet["material"].lightfade.aged_image
+        one = rgba(image).copy()
+        bpy.context.scene.lightfade.years = 20.0
+        twenty = rgba(image)
+        _, lit = footprint(carpet["floor"])
+        assert np.abs(twenty - one)[lit].max() > 0.02
+
+    def test_keyframed_years_update_per_frame(self, carpet):
+        bpy.ops.lightfade.age(years=0)
+        scene = bpy.context.scene
+        for frame, years in ((1, 0.0), (10, 30.0)):
+            scene.lightfade.years = years
+            scene.lightfade.keyframe_insert("years", frame=frame)
+        image = carpet["material"].lightfade.aged_image
+        scene.frame_set(1)
+        first = rgba(image).copy()
+        scene.frame_set(10)
+        assert abs(scene.lightfade.years - 30.0) < 1e-6
+        assert np.abs(rgba(image) - first).max() > 0.02
+
+    def test_animation_renders_frames_that_differ(self, carpet, tmp_path):
+        scene = bpy.context.scene
+        bpy.ops.lightfade.age(years=0)
+        for frame, years in ((1, 0.0), (2, 40.0)):
+            scene.lightfade.years = years
+            scene.lightfade.keyframe_insert("years", frame=frame)
+        cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
+        scene.collection.objects.link(cam)
+        cam.location = (0, 0, 3)
+        scene.camera = cam
+        scene.render.engine = "CYCLES"
+        scene.cycles.samples = 1
+        scene.cycles.device = "CPU"
+        scene.render.resolution_x = scene.render.resolution_y = 24
+        scene.render.image_settings.file_format = "PNG"
+        scene.render.filepath = str(tmp_path / "frame_")
+        scene.frame_start, scene.frame_end = 1, 2
+        bpy.ops.render.render(animation=True)
+        frames = sorted(tmp_path.glob("frame_*.png"))
+        assert len(frames) == 2
+        a, b = (bpy.data.images.load(str(f)) for f in frames)
+        assert np.abs(rgba(a) - rgba(b)).max() > 0.05
+
+    def test_flat_base_colour_is_aged_too(self, carpet):
+        mat = carpet["material"]
+        tree = mat.node_tree
+        bsdf = tree.nodes["Principled BSDF"]
+        tree.links.remove(bsdf.inputs["Base Color"].links[0])
+        bsdf.inputs["Base Color"].default_value = (0.1, 0.4, 0.7, 1.0)
+        assert bpy.ops.lightfade.age(years=10) == {"FINISHED"}
+        assert mat.lightfade.aged_image is not None and mat.lightfade.flat_albedo
+        assert bsdf.inputs["Base Color"].links[0].from_node.image == mat.lightfade.aged_image
+
+    def test_python_api(self, carpet):
+        from lightfade_addon import api
+
+        images = api.age_scene(years=3)
+        assert [i.name for i in images] == ["LF_Aged_Carpet"]
+        assert api.set_years(years=7) >= 0
+        assert bpy.context.scene.lightfade.years == 7
+        api.reset()
+        assert "LF_Aged_Carpet" not in bpy.data.images
+
+
+class TestReset:
+    def test_reset_restores_the_node_tree_and_removes_images(self, carpet):
+        mat = carpet["material"]
+        links_before = sorted((l.from_node.name, l.from_socket.identifier, l.to_node.name,
+                               l.to_socket.identifier) for l in mat.node_tree.links)
+        nodes_before = sorted(n.name for n in mat.node_tree.nodes)
+        images_before = sorted(i.name for i in bpy.data.images)
+        bpy.ops.lightfade.age(years=5)
+        assert bpy.ops.lightfade.reset() == {"FINISHED"}
+        assert sorted(n.name for n in mat.node_tree.nodes) == nodes_before
+        assert sorted((l.from_node.name, l.from_socket.identifier, l.to_node.name,
+                       l.to_socket.identifier) for l in mat.node_tree.links) == links_before
+        assert sorted(i.name for i in bpy.data.images) == images_before
+        assert mat.lightfade.aged_image is None
+
+
+class TestSaveReload:
+    def test_round_trip_renders_without_simulating(self, carpet, tmp_path, monkeypatch):
+        bpy.ops.lightfade.age(years=4)
+        aged_before = rgba(carpet["material"].lightfade.aged_image).copy()
+        path = str(tmp_path / "aged.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        bpy.ops.wm.open_mainfile(filepath=path)
+        mat = bpy.data.materials["Carpet"]
+        assert mat.lightfade.aged_image is not None and mat.lightfade.aged_image.packed_file
+        np.testing.assert_allclose(rgba(mat.lightfade.aged_image), aged_before, atol=1e-6)
+        from lightfade_addon.core import grid
+
+        monkeypatch.setattr(grid, "build_grid", lambda *a, **k: pytest.fail("simulated"))
+        bpy.context.scene.lightfade.years = 12            # ager rebuilt from the file's grid
+        assert np.abs(rgba(mat.lightfade.aged_image) - aged_before).max() > 0.01
+
+
+class TestBadInput:
+    def test_without_exposure_maps_the_operator_reports_the_object(self, floor_scene):
+        with pytest.raises(RuntimeError, match="Object 'Floor' has no exposure maps"):
+            bpy.ops.lightfade.age(years=2)             # no bake yet: one error line
+        assert floor_scene["material"].lightfade.aged_image is None
+
+    def test_error_message_names_the_object(self, floor_scene):
+        from lightfade_addon.blender.aging import AgingError, age_scene
+
+        with pytest.raises(AgingError, match="Floor.*Bake Exposure"):
+            age_scene(bpy.context.scene, 2)
+
+    @pytest.mark.parametrize("years", [-1.0, float("nan")])
+    def test_negative_or_nan_years(self, carpet, years):
+        from lightfade_addon.blender.aging import AgingError, age_scene
+
+        with pytest.raises(AgingError, match="Years"):
+            age_scene(bpy.context.scene, years)
+
+    def test_shared_material_is_refused_with_advice(self, carpet):
+        from lightfade_addon.blender.aging import AgingError, age_scene
+
+        carpet["box"].data.materials.append(carpet["material"])
+        with pytest.raises(AgingError, match="Make Single User"):
+            age_scene(bpy.context.scene, 2)
+
+    def test_udim_and_missing_images(self, carpet, tmp_path):
+        from lightfade_addon.blender.aging import AgingError, age_scene
+
+        node = carpet["material"].node_tree.nodes["Image Texture"]
+        tiled = bpy.data.images.new("Tiles", 8, 8, tiled=True)
+        node.image = tiled
+        with pytest.raises(AgingError, match="UDIM"):
+            age_scene(bpy.context.scene, 2)
+        missing = bpy.data.images.new("Missing", 8, 8)
+        missing.source = "FILE"
+        missing.filepath = str(tmp_path / "nowhere.png")
+        node.image = missing
+        with pytest.raises(AgingError, match="Missing"):
+            age_scene(bpy.context.scene, 2)
+
+    def test_material_without_nodes_or_nothing_enabled(self, carpet):
+        from lightfade_addon.blender.aging import AgingError, age_scene
+
+        carpet["material"].lightfade.enabled = False
+        with pytest.raises(AgingError, match="Nothing to age"):
+            age_scene(bpy.context.scene, 2)
+
+
+def test_handlers_are_added_once_and_removed(blender):
+    import addon_utils
+
+    from lightfade_addon.blender import handlers
+
+    for _ in range(2):
+        addon_utils.disable("lightfade_addon", default_set=True)
+        addon_utils.enable("lightfade_addon", default_set=True)
+    for handler_list, fn in handlers.HANDLERS:
+        assert sum(h.__name__ == fn.__name__ for h in handler_list) == 1
+    addon_utils.disable("lightfade_addon", default_set=True)
+    for handler_list, fn in handlers.HANDLERS:
+        assert not any(h.__name__ == fn.__name__ for h in handler_list)
+    addon_utils.enable("lightfade_addon", default_set=True)
