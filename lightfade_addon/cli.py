@@ -29,13 +29,20 @@ class UserError(Exception):
     """A problem with the user's input: reported as one line, exit status 2."""
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``lightfade: error: ...`` and exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"lightfade: error: {message} (see: {self.prog} --help)\n")
+
+
 def make_parser():
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="python -m lightfade_addon",
         description="LightFade: physically based light fading and yellowing (layered "
                     "Kubelka-Munk model).")
     parser.add_argument("--version", action="version", version=f"lightfade {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name, (help_text, build) in COMMANDS.items():
         p = sub.add_parser(name, help=help_text, description=help_text)
         build(p)

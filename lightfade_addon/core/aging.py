@@ -28,7 +28,7 @@ from .unmix import get_unmixer
 __all__ = ["Light", "TextureAger", "age_image", "age_image_exact", "HOURS_PER_YEAR_DEFAULT"]
 
 #: Texels updated per block in :meth:`TextureAger.age` (bounds the temporaries).
-_BLOCK = 1 << 20
+_BLOCK = 1 << 18
 #: Most distinct colours unmixed per texture; more are merged by dropping bits.
 _MAX_KEYS = 1 << 16
 HOURS_PER_YEAR_DEFAULT = 8.0 * 365.0
@@ -216,22 +216,29 @@ class TextureAger:
 
     def _change(self, s0, s1, root_years):
         """``exp(change)`` for texels s0:s1 as (3, k) planes."""
+        k = s1 - s0
         pos = self._sigma[s0:s1] * np.float32(root_years)
-        i = np.minimum(pos.astype(np.int32), self._T - 2)
-        f = pos - i
-        out = None
-        for k in range(self._offsets.shape[0]):
-            idx = self._offsets[k, s0:s1] + i
-            v = np.empty((3, s1 - s0), dtype=np.float32)
+        i = pos.astype(np.int32)
+        np.minimum(i, self._T - 2, out=i)
+        f = pos
+        f -= i                                        # fractional position, in place
+        out = np.empty((3, k), dtype=np.float32)
+        tmp = np.empty(k, dtype=np.float32)
+        idx = np.empty(k, dtype=np.int32)
+        acc = None if self._weights is None else np.zeros((3, k), dtype=np.float32)
+        for v in range(self._offsets.shape[0]):
+            np.add(self._offsets[v, s0:s1], i, out=idx)
             for ch in range(3):
-                a = np.take(self._planes[ch], idx)
-                a += f * np.take(self._planes[ch + 3], idx)
-                v[ch] = a
-            if self._weights is not None:
-                v *= self._weights[k, s0:s1]
-            out = v if out is None else out + v
-        np.exp(out, out=out)
-        return out
+                np.take(self._planes[ch], idx, out=out[ch])
+                np.take(self._planes[ch + 3], idx, out=tmp)
+                tmp *= f
+                out[ch] += tmp
+            if acc is not None:
+                out *= self._weights[v, s0:s1]
+                acc += out
+        result = out if acc is None else acc
+        np.exp(result, out=result)
+        return result
 
     def age(self, years, out=None):
         """The texture after ``years`` (float32, same shape and encoding as the input).
@@ -254,10 +261,12 @@ class TextureAger:
             s1 = min(s0 + _BLOCK, n)
             XYZ = self._change(s0, s1, root)
             XYZ *= self._XYZ[:, s0:s1]
-            rgb = self._to_rgb @ XYZ                                   # (3, k)
+            target = res[s0:s1, :3] if rgba else res.reshape(n, 3)[s0:s1]
             if self.encoding == "srgb":
-                rgb = srgb_encode(np.clip(rgb, 0.0, 1.0)).astype(np.float32)
-            (res[s0:s1, :3] if rgba else res.reshape(n, 3)[s0:s1])[:] = rgb.T
+                rgb = self._to_rgb @ XYZ
+                target[:] = srgb_encode(np.clip(rgb, 0.0, 1.0)).T
+            else:
+                np.matmul(XYZ.T, self._to_rgb.T, out=target)        # straight into RGBA
         return res if rgba else res.reshape(self.shape)
 
 

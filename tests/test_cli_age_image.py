@@ -1,0 +1,297 @@
+"""``python -m lightfade_addon age-image``: outputs, exactness at 0 years, fading, errors."""
+
+import hashlib
+import io
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from lightfade_addon import cli, imageio
+from lightfade_addon.core.colorimetry import (
+    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
+from lightfade_addon.progress import ProgressBar
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+H, W = 16, 24
+
+
+def sha(path):
+    return hashlib.sha256(open(path, "rb").read()).hexdigest()
+
+
+def lab(rgb):
+    return XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(rgb)))
+
+
+def mean_dE(a, b):
+    return float(delta_E_2000(lab(a), lab(b)).mean())
+
+
+def photo_samples(bits, seed=0):
+    """A small colourful test picture: gradients plus saturated patches, with alpha."""
+    rng = np.random.default_rng(seed)
+    y, x = np.mgrid[0:H, 0:W] / np.array([H - 1, W - 1])[:, None, None]
+    rgb = np.stack([x, 1 - x * y, 0.3 + 0.6 * y], -1)
+    rgb[2:7, 3:9] = (0.9, 0.1, 0.5)          # magenta-ish
+    rgb[9:14, 14:21] = (0.1, 0.5, 0.9)       # blue
+    rgb = np.clip(rgb + rng.normal(0, 0.02, rgb.shape), 0, 1)
+    alpha = np.clip(0.5 + x, 0, 1)
+    top = 2 ** bits - 1
+    return np.rint(rgb * top) / top, np.rint(alpha * top) / top
+
+
+@pytest.fixture(scope="module")
+def cache(tmp_path_factory):
+    """One grid cache for the module (the same grid serves most runs)."""
+    path = tmp_path_factory.mktemp("grid-cache")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("LIGHTFADE_CACHE", str(path))
+        yield path
+
+
+def make_photo(folder, name="photo.png", bits=8):
+    rgb, alpha = photo_samples(bits)
+    path = folder / name
+    imageio.write_image(path, rgb, alpha, bits=bits)
+    return path
+
+
+def age(capsys, *argv):
+    code = cli.main(["age-image", *map(str, argv)])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def run8(cache, tmp_path_factory):
+    """One 8-bit run with the default settings at 0, 2.5, 5 and 25 years."""
+    folder = tmp_path_factory.mktemp("run8")
+    photo = make_photo(folder)
+    before = sha(photo)
+    out_dir = folder / "aged"
+    buf_out, buf_err = io.StringIO(), io.StringIO()
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(sys, "stdout", buf_out)
+        mp.setattr(sys, "stderr", buf_err)
+        code = cli.main(["age-image", str(photo), "--years", "0", "2.5", "5", "25",
+                         "--out", str(out_dir)])
+    return dict(code=code, photo=photo, before=before, out=out_dir,
+                stdout=buf_out.getvalue(), stderr=buf_err.getvalue())
+
+
+class TestAgeImage:
+    def test_outputs_are_named_by_the_years_as_written(self, run8):
+        assert run8["code"] == 0, run8["stderr"]
+        names = sorted(p.name for p in run8["out"].iterdir())
+        assert names == ["photo_0y.png", "photo_2.5y.png", "photo_25y.png", "photo_5y.png",
+                         "photo_contact.png"]
+
+    def test_input_is_untouched(self, run8):
+        assert sha(run8["photo"]) == run8["before"]
+
+    def test_zero_years_is_bit_identical(self, run8):
+        src, a_src, info = imageio.read_image(run8["photo"])
+        out, a_out, info0 = imageio.read_image(run8["out"] / "photo_0y.png")
+        assert info0.bits == 8 and info0.mode == "RGBA"
+        np.testing.assert_array_equal(np.rint(out * 255), np.rint(src * 255))
+        np.testing.assert_array_equal(np.rint(a_out * 255), np.rint(a_src * 255))
+
+    def test_later_years_fade_more_and_keep_alpha(self, run8):
+        src, a_src, _ = imageio.read_image(run8["photo"])
+        dE = []
+        for y in ("2.5", "5", "25"):
+            out, a_out, info = imageio.read_image(run8["out"] / f"photo_{y}y.png")
+            assert info.bits == 8
+            np.testing.assert_array_equal(a_out, a_src)
+            dE.append(mean_dE(src, out))
+        assert 0.05 < dE[0] < dE[1] < dE[2], dE
+        # magenta fades first on printed paper: the magenta patch loses chroma
+        out25, _, _ = imageio.read_image(run8["out"] / "photo_25y.png")
+        L0, L25 = lab(src[2:7, 3:9]), lab(out25[2:7, 3:9])
+        assert np.hypot(L25[..., 1], L25[..., 2]).mean() < np.hypot(L0[..., 1], L0[..., 2]).mean()
+
+    def test_prints_the_dose_of_each_year(self, run8):
+        lines = run8["stdout"].splitlines()
+        assert "5 y = 2.19 Mlx·h (150 lux × 8 h/day × 365 days/year)" in lines
+        assert "25 y = 10.95 Mlx·h (150 lux × 8 h/day × 365 days/year)" in lines
+        assert "0 y = 0.00 Mlx·h (150 lux × 8 h/day × 365 days/year)" in lines
+        assert "building the fading grid" in run8["stderr"]      # the progress lines
+        assert "\r" not in run8["stderr"]                        # not a terminal: plain lines
+
+    def test_contact_sheet(self, run8):
+        with Image.open(run8["out"] / "photo_contact.png") as im:
+            assert im.mode == "RGB"
+            assert im.width > 4 * W and im.height > H
+
+    def test_16_bit_in_16_bit_out(self, cache, tmp_path, capsys):
+        photo = make_photo(tmp_path, "deep.png", bits=16)
+        before = sha(photo)
+        code, out, err = age(capsys, photo, "--years", "0", "25", "--out", tmp_path / "o")
+        assert code == 0, err
+        src, a_src, _ = imageio.read_image(photo)
+        zero, a0, info0 = imageio.read_image(tmp_path / "o" / "deep_0y.png")
+        aged, a25, info25 = imageio.read_image(tmp_path / "o" / "deep_25y.png")
+        assert info0.bits == info25.bits == 16
+        np.testing.assert_array_equal(np.rint(zero * 65535), np.rint(src * 65535))
+        np.testing.assert_array_equal(a0, a_src)
+        np.testing.assert_array_equal(a25, a_src)
+        assert mean_dE(src, aged) > 0.5
+        # 16-bit detail survives: more distinct levels than 8 bits could hold
+        levels16 = np.unique(np.rint(aged[..., 0] * 65535)).size
+        assert levels16 > np.unique(np.rint(aged[..., 0] * 255)).size
+        assert sha(photo) == before
+
+    def test_exposure_mask_keeps_the_shadow(self, cache, tmp_path, capsys):
+        photo = make_photo(tmp_path)
+        mask = np.zeros((H, W, 3))
+        mask[:, W // 2:] = 1.0                                   # right half in the light
+        imageio.write_image(tmp_path / "mask.png", mask)
+        code, out, err = age(capsys, photo, "--years", "25", "--exposure", tmp_path / "mask.png",
+                             "--out", tmp_path)
+        assert code == 0, err
+        src, _, _ = imageio.read_image(photo)
+        aged, _, _ = imageio.read_image(tmp_path / "photo_25y.png")
+        np.testing.assert_array_equal(aged[:, : W // 2], src[:, : W // 2])
+        assert mean_dE(src[:, W // 2:], aged[:, W // 2:]) > 0.5
+        assert "mask scales them by 0.00-1.00" in out
+
+    def test_exact_path_agrees_with_the_grid(self, cache, run8, tmp_path):
+        # A real process: the module entry point, the exact path and the UV filter flag.
+        res = subprocess.run([sys.executable, "-m", "lightfade_addon", "age-image",
+                              str(run8["photo"]), "--years", "0", "25", "--exact",
+                              "--out", str(tmp_path)],
+                             cwd=ROOT, capture_output=True, text=True, timeout=120)
+        assert res.returncode == 0, res.stderr
+        exact, _, _ = imageio.read_image(tmp_path / "photo_25y.png")
+        grid, _, _ = imageio.read_image(run8["out"] / "photo_25y.png")
+        src, _, _ = imageio.read_image(run8["photo"])
+        gap = delta_E_2000(lab(exact), lab(grid))
+        assert gap.max() < 1.0 < mean_dE(src, exact), (gap.max(), mean_dE(src, exact))
+        zero, _, _ = imageio.read_image(tmp_path / "photo_0y.png")
+        np.testing.assert_array_equal(zero, src)
+
+    def test_help_documents_defaults_and_units(self, capsys):
+        with pytest.raises(SystemExit) as exc:
+            cli.main(["age-image", "--help"])
+        assert exc.value.code == 0
+        text = " ".join(capsys.readouterr().out.split())
+        for s in ("default: printed-paper", "default: daylight-glass", "in lux (default: 150",
+                  "in hours, 0-24 (default: 8)", "in days, 0-366 (default: 365)", "UV filter"):
+            assert s in text, s
+
+
+def _case_files(tmp_path, case):
+    """Set up the inputs of an error case; returns the argument list."""
+    photo = make_photo(tmp_path)
+    base = [photo, "--out", tmp_path / "out"]
+    if case == "missing":
+        return [tmp_path / "nope.png", "--years", "5"]
+    if case == "unreadable":
+        (tmp_path / "text.png").write_text("not a picture")
+        return [tmp_path / "text.png", "--years", "5"]
+    if case == "out-is-file":
+        (tmp_path / "file").write_text("x")
+        return [photo, "--years", "5", "--out", tmp_path / "file"]
+    if case == "mask-size":
+        imageio.write_image(tmp_path / "m.png", np.ones((H + 1, W, 3)))
+        return base + ["--years", "5", "--exposure", tmp_path / "m.png"]
+    if case == "mask-missing":
+        return base + ["--years", "5", "--exposure", tmp_path / "none.png"]
+    if case == "output-is-input":                       # a hard link to the photo
+        (tmp_path / "out").mkdir()
+        os.link(photo, tmp_path / "out" / "photo_5y.png")
+        return base + ["--years", "5"]
+    if case == "output-is-mask":
+        (tmp_path / "out").mkdir()
+        imageio.write_image(tmp_path / "out" / "photo_5y.png", np.ones((H, W, 3)))
+        return base + ["--years", "5", "--exposure", tmp_path / "out" / "photo_5y.png"]
+    extra = {
+        "negative-years": ["--years", "0", "-5"],
+        "nan-years": ["--years", "nan"],
+        "word-years": ["--years", "five"],
+        "inf-years": ["--years", "inf"],
+        "negative-lux": ["--years", "5", "--lux", "-150"],
+        "nan-lux": ["--years", "5", "--lux", "nan"],
+        "hours": ["--years", "5", "--hours-per-day", "25"],
+        "days": ["--years", "5", "--days-per-year", "-1"],
+        "recipe": ["--years", "5", "--recipe", "velvet"],
+        "light": ["--years", "5", "--light", "candle"],
+    }[case]
+    return base + extra
+
+
+ERROR_CASES = {
+    "missing": "nope.png",
+    "unreadable": "text.png",
+    "out-is-file": "is a file",
+    "mask-size": "must match",
+    "mask-missing": "none.png",
+    "output-is-input": "refusing to write",
+    "output-is-mask": "refusing to write",
+    "negative-years": "years",
+    "nan-years": "years",
+    "word-years": "'five'",
+    "inf-years": "years",
+    "negative-lux": "--lux",
+    "nan-lux": "--lux",
+    "hours": "--hours-per-day",
+    "days": "--days-per-year",
+    "recipe": "valid recipes: printed-paper, dyed-fabric, painted-wood, bare-wood",
+    "light": "valid lights: daylight, daylight-glass, incandescent, fluorescent, led",
+}
+
+
+class TestErrors:
+    @pytest.mark.parametrize("case", list(ERROR_CASES))
+    def test_one_line_exit_2_input_untouched(self, cache, tmp_path, capsys, case):
+        argv = _case_files(tmp_path, case)
+        hashes = {p: sha(p) for p in tmp_path.rglob("*") if p.is_file()}
+        code, out, err = age(capsys, *argv)
+        assert code == 2
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("lightfade: error: "), err
+        assert ERROR_CASES[case] in lines[0]
+        assert "Traceback" not in err
+        assert {p: sha(p) for p in hashes} == hashes            # nothing overwritten
+        new = [p for p in tmp_path.rglob("*") if p.is_file() and p not in hashes]
+        assert new == []                                         # nothing written
+
+    def test_in_a_real_process(self, tmp_path):
+        res = subprocess.run([sys.executable, "-m", "lightfade_addon", "age-image",
+                              str(tmp_path / "missing.png"), "--years", "5"],
+                             cwd=ROOT, capture_output=True, text=True, timeout=60)
+        assert res.returncode == 2
+        assert res.stderr.splitlines() == [
+            f"lightfade: error: cannot read {str(tmp_path / 'missing.png')!r}: no such file"]
+
+
+class TestHelpers:
+    def test_progress_bar_on_a_terminal_redraws_one_line(self):
+        buf = io.StringIO()
+        bar = ProgressBar("grid", stream=buf, width=10, tty=True)
+        bar(0.0, "start")
+        bar(0.5, "half")
+        bar.close()
+        text = buf.getvalue()
+        assert text.count("\r") == 2 and text.endswith("\n") and text.count("\n") == 1
+        assert "[#####.....]  50%  half" in text
+
+    def test_progress_bar_elsewhere_writes_a_line_per_message(self):
+        buf = io.StringIO()
+        bar = ProgressBar("grid", stream=buf, tty=False)
+        for f in (0.0, 0.1, 0.2):
+            bar(f, "building")
+        bar(1.0, "ready")
+        bar.close()
+        assert buf.getvalue().splitlines() == ["grid   0%  building", "grid 100%  ready"]
+
+    def test_parse_years_keeps_the_text(self):
+        from lightfade_addon.commands.age_image import format_dose, parse_years
+
+        assert parse_years(["0", "2.5", "2.5", "1e1"]) == [("0", 0.0), ("2.5", 2.5), ("1e1", 10.0)]
+        assert format_dose(2.19e6) == "2.19" and format_dose(0) == "0.00"
+        assert format_dose(1200.0) == "0.0012"
