@@ -73,44 +73,67 @@ class Light:
         return light_spectrum(self.spectrum, wavelengths, self.uv_filter)
 
 
+def _blockwise(a, fn, block=_BLOCK):
+    """``fn`` applied to row blocks of ``a`` (n, 3), gathered as float32."""
+    out = np.empty(a.shape, dtype=np.float32)
+    for s0 in range(0, a.shape[0], block):
+        out[s0:s0 + block] = fn(a[s0:s0 + block])
+    return out
+
+
 def _as_recipe(recipe):
     return get_recipe(recipe) if isinstance(recipe, str) else recipe
 
 
-def _dose_rates(lights, exposure, n):
-    """Per-texel annual dose per distinct spectrum: ((n, S) lux·h/year, spectra keys)."""
+def _spectra_keys(lights):
+    """Distinct (spectrum, uv_filter) pairs, in order of first appearance."""
     keys = []
     for light in lights:
         k = (light.spectrum, light.uv_filter)
         if k not in keys:
             keys.append(k)
-    rates = np.zeros((n, len(keys)))
-    if exposure is None:
-        exposure = np.ones((len(lights), n))
-    else:
-        exposure = np.asarray(exposure, dtype=float)
+    return keys
+
+
+def _dose_rates(lights, exposure, n, keys):
+    """Per-texel annual dose per distinct spectrum, (S, n) float32 lux·h a year."""
+    rates = np.zeros((len(keys), n), dtype=np.float32)
+    if exposure is not None:
+        exposure = np.asarray(exposure)
+        if exposure.size not in (n, n * len(lights)):
+            raise ValueError(f"exposure must have one value per texel ({n}) or one map per "
+                             f"light ({len(lights)} × {n}), got shape {exposure.shape}")
         exposure = exposure.reshape((1, n) if exposure.size == n else (len(lights), n))
-        if exposure.shape[0] == 1 and len(lights) > 1:
-            exposure = np.broadcast_to(exposure, (len(lights), n))
-    if not np.all(np.isfinite(exposure)) or np.any(exposure < 0):
-        raise ValueError("exposure must be finite and >= 0")
-    for light, e in zip(lights, exposure):
-        rates[:, keys.index((light.spectrum, light.uv_filter))] += e * light.annual_dose
-    return rates, keys
+    for k, light in enumerate(lights):
+        row = rates[keys.index((light.spectrum, light.uv_filter))]
+        if exposure is None:
+            row += np.float32(light.annual_dose)
+            continue
+        e = exposure[0 if exposure.shape[0] == 1 else k]
+        if not np.all(np.isfinite(e)) or np.any(e < 0):
+            raise ValueError("exposure must be finite and >= 0")
+        row += e.astype(np.float32) * np.float32(light.annual_dose)
+    return rates
 
 
 def _colour_keys(rgb_encoded):
-    """Distinct colours (8 bits per channel, fewer if too many): (keys, inverse, colours)."""
-    q = np.clip(np.rint(rgb_encoded * 255.0), 0, 255).astype(np.int64)
+    """Distinct colours (8 bits per channel, fewer if too many): (inverse, colours).
+
+    ``rgb_encoded`` (n, 3) in [0, 1]; returns the index of each texel's colour and the
+    (U, 3) colours (bin centres, encoded sRGB).
+    """
+    q = [np.clip(np.rint(rgb_encoded[:, ch] * 255.0), 0, 255).astype(np.int32)
+         for ch in range(3)]
     for drop in range(0, 5):
-        code = ((q[:, 0] >> drop) << 16) | ((q[:, 1] >> drop) << 8) | (q[:, 2] >> drop)
+        code = ((q[0] >> drop) << 16) | ((q[1] >> drop) << 8) | (q[2] >> drop)
         keys, inverse = np.unique(code, return_inverse=True)
+        del code
         if keys.size <= _MAX_KEYS:
             break
     scale = 1 << drop
     colours = np.stack([(keys >> 16) & 255, (keys >> 8) & 255, keys & 255], -1)
     colours = (colours * scale + (scale - 1) / 2.0) / 255.0      # bin centres
-    return inverse.astype(np.int64), np.clip(colours, 0.0, 1.0)
+    return inverse.astype(np.int32), np.clip(colours, 0.0, 1.0)
 
 
 class TextureAger:
@@ -166,10 +189,9 @@ class TextureAger:
         n = flat.shape[0]
         say = progress or (lambda f, m: None)
 
-        rates, spectra_keys = _dose_rates(lights, exposure, n)
-        self.rate = rates.sum(axis=1)                            # lux·h per year
-        mix = np.where(self.rate[:, None] > 0, rates / np.maximum(self.rate, 1e-300)[:, None], 0.0)
-        mix[self.rate <= 0, 0] = 1.0
+        spectra_keys = _spectra_keys(lights)
+        rates = _dose_rates(lights, exposure, n, spectra_keys)          # (S, n) float32
+        self.rate = rates.sum(axis=0)                                   # lux·h per year
         self.spectra = np.stack([light_spectrum(s, WAVELENGTHS, uv) for s, uv in spectra_keys])
 
         max_dose = max(float(self.rate.max()) * self.max_years, 1.0)
@@ -178,8 +200,8 @@ class TextureAger:
                                   progress=lambda f, m: say(0.6 * f, m), store=store)
 
         say(0.6, "unmixing colours")
-        enc = np.clip(flat if encoding == "srgb" else srgb_encode(np.clip(flat, 0, 1)), 0, 1)
-        self._key, colours = _colour_keys(enc)
+        key, colours = _colour_keys(flat if encoding == "srgb" else
+                                    _blockwise(flat, lambda b: srgb_encode(np.clip(b, 0, 1))))
         c = get_unmixer(self.recipe).unmix(colours, encoded=True, refine=2)
         say(0.85, f"change curves for {colours.shape[0]} colours")
         curves = self.grid.curves(c)                                  # (U, M, T, 3)
@@ -189,16 +211,32 @@ class TextureAger:
         start = curves[:, :, :-1].reshape(-1, 3)
         step = (curves[:, :, 1:] - curves[:, :, :-1]).reshape(-1, 3)
         self._planes = np.ascontiguousarray(np.concatenate([start, step], axis=1).T)  # (6, K)
+        del curves, start, step
         self._T = T
-        nodes, weights = simplex_interpolation(mix, self.grid.q)
-        self._offsets = ((self._key[None, :] * M + nodes.T) * (T - 1)).astype(np.int32)
-        self._weights = weights.T.astype(np.float32) if nodes.shape[1] > 1 else None
+        key *= M * (T - 1)
+        if len(spectra_keys) == 1:
+            self._offsets = key[None]
+            self._weights = None
+        else:
+            self._offsets = np.empty((len(spectra_keys), n), dtype=np.int32)
+            self._weights = np.empty((len(spectra_keys), n), dtype=np.float32)
+            for s0 in range(0, n, _BLOCK):
+                s1 = min(s0 + _BLOCK, n)
+                total = self.rate[s0:s1]
+                mix = np.where(total > 0, rates[:, s0:s1] / np.maximum(total, 1e-30), 0.0).T
+                mix[total <= 0, 0] = 1.0
+                nodes, weights = simplex_interpolation(mix, self.grid.q)
+                self._offsets[:, s0:s1] = key[s0:s1] + nodes.T * (T - 1)
+                self._weights[:, s0:s1] = weights.T
+        del rates, key
         # s = sigma * sqrt(years) is the texel's fractional position on the dose axis
-        self._sigma = (np.sqrt(self.rate / self.grid.max_dose) * (T - 1)).astype(np.float32)
-        lin = srgb_decode(flat) if encoding == "srgb" else flat
-        self._XYZ = np.ascontiguousarray(linear_srgb_to_XYZ(lin).T, dtype=np.float32)  # (3, n)
+        self._sigma = np.sqrt(self.rate / np.float32(self.grid.max_dose)) * np.float32(T - 1)
+        self._XYZ = np.empty((3, n), dtype=np.float32)
+        for s0 in range(0, n, _BLOCK):
+            s1 = min(s0 + _BLOCK, n)
+            lin = srgb_decode(flat[s0:s1]) if encoding == "srgb" else flat[s0:s1]
+            self._XYZ[:, s0:s1] = linear_srgb_to_XYZ(lin).T
         self._to_rgb = (XYZ_to_linear_srgb(np.eye(3)).T).astype(np.float32)           # (3, 3)
-        del self._key
         say(1.0, "ready")
 
     def dose(self, years):

@@ -141,19 +141,23 @@ class LayeredStack:
         """
         R, G, tmp = self.R, self.G, self._tmp
         R[self.N] = self.ground
-        for i0, i1 in reversed(self._blocks()):
-            rho, tau = self._optics(f, i0, i1)
-            D = self._x[: i1 - i0]
-            tau2 = self._m[: i1 - i0]
-            np.multiply(tau, tau, out=tau2)
-            for k in range(i1 - i0 - 1, -1, -1):
-                i = i0 + k
-                np.multiply(rho[k], R[i + 1], out=D[k])
-                np.subtract(1.0, D[k], out=D[k])
-                np.multiply(tau2[k], R[i + 1], out=tmp)
-                np.divide(tmp, D[k], out=tmp)
-                np.add(rho[k], tmp, out=R[i])
-            np.divide(tau, D, out=G[i0:i1])
+        with np.errstate(divide="ignore"):
+            for i0, i1 in reversed(self._blocks()):
+                rho, tau = self._optics(f, i0, i1)
+                tau2 = self._m[: i1 - i0]
+                np.multiply(tau, tau, out=tau2)
+                # R[i] = rho + tau^2 / (1 / R[i+1] - rho): four row operations; where
+                # R[i+1] = 0 the reciprocal is inf and R[i] = rho, as it should be.
+                for k in range(i1 - i0 - 1, -1, -1):
+                    i = i0 + k
+                    np.divide(1.0, R[i + 1], out=tmp)
+                    tmp -= rho[k]
+                    np.divide(tau2[k], tmp, out=tmp)
+                    np.add(rho[k], tmp, out=R[i])
+                D = self._x[: i1 - i0]                  # D = 1 - rho R[i+1], per block
+                np.multiply(rho, R[i0 + 1:i1 + 1], out=D)
+                np.subtract(1.0, D, out=D)
+                np.divide(tau, D, out=G[i0:i1])
         return R[0]
 
     def reflectance(self, f):
