@@ -407,14 +407,17 @@ def reset_material(material):
 
 
 def targets(scene, selected):
-    """(object, material) pairs to age: selected meshes' enabled materials, else all enabled."""
-    objects = [o for o in selected if o.type == "MESH"] or \
-        [o for o in scene.objects if o.type == "MESH"]
+    """(object, material) pairs to age.
+
+    With meshes selected: every material of theirs (zero configuration: the default
+    recipe applies). With nothing selected: the materials with LightFade enabled.
+    """
+    chosen = [o for o in selected if o.type == "MESH"]
     pairs = []
-    for obj in objects:
+    for obj in chosen or [o for o in scene.objects if o.type == "MESH"]:
         for slot in obj.material_slots:
             m = slot.material
-            if m is not None and m.lightfade.enabled and (obj, m) not in pairs:
+            if m is not None and (chosen or m.lightfade.enabled) and (obj, m) not in pairs:
                 pairs.append((obj, m))
     return pairs
 
@@ -430,8 +433,8 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
         raise AgingError(f"Years must be a number >= 0, got {years!r}")
     pairs = targets(scene, selected)
     if not pairs:
-        raise AgingError("Nothing to age: enable LightFade on a material (Material Properties "
-                         "> LightFade > Age this Material)")
+        raise AgingError("Nothing to age: select meshes with materials, or enable LightFade on "
+                         "a material (Material Properties > LightFade > Age this Material)")
     done, problems = [], []
     for k, (obj, material) in enumerate(pairs):
         users = users_of(material, scene)

@@ -211,6 +211,7 @@ class TestBadInput:
         from lightfade_addon.blender.aging import AgingError, age_scene
 
         carpet["material"].lightfade.enabled = False
+        bpy.ops.object.select_all(action="DESELECT")
         with pytest.raises(AgingError, match="Nothing to age"):
             age_scene(bpy.context.scene, 2)
 
@@ -229,3 +230,32 @@ def test_handlers_are_added_once_and_removed(blender):
     for handler_list, fn in handlers.HANDLERS:
         assert not any(h.__name__ == fn.__name__ for h in handler_list)
     addon_utils.enable("lightfade_addon", default_set=True)
+
+
+def test_zero_configuration(blender, lf):
+    """Select a mesh with an albedo image, bake, age: defaults apply (printed paper, 8 h/day)."""
+    bpy.ops.mesh.primitive_plane_add(size=2.0)
+    plane = bpy.context.active_object
+    mat = bpy.data.materials.new("Poster")
+    image = bpy.data.images.new("PosterAlbedo", 32, 32)
+    px = np.empty((32, 32, 4), np.float32)
+    px[...] = (0.9, 0.1, 0.6, 1.0)
+    image.pixels.foreach_set(px.ravel())
+    tex = mat.node_tree.nodes.new("ShaderNodeTexImage")
+    tex.image = image
+    mat.node_tree.links.new(tex.outputs["Color"],
+                            mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+    plane.data.materials.append(mat)
+    lf.add_sun(strength=20.0, theta_deg=10.0)
+    scene = bpy.context.scene
+    scene.lightfade.bake_resolution, scene.lightfade.bake_samples = 32, 4
+    for o in bpy.context.view_layer.objects:
+        o.select_set(o == plane)
+    bpy.context.view_layer.objects.active = plane
+    assert not mat.lightfade.enabled
+    assert bpy.ops.lightfade.bake_exposure() == {"FINISHED"}
+    assert bpy.ops.lightfade.age(years=5) == {"FINISHED"}
+    aged = rgba(mat.lightfade.aged_image)[..., :3]
+    assert mat.lightfade.recipe == "PRINTED_PAPER"
+    dE = delta_E_2000(lab_linear(aged), lab_linear(srgb_decode(px[..., :3])))
+    assert dE.mean() > 2
