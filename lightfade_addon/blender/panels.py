@@ -3,6 +3,9 @@ Material Properties."""
 
 import bpy
 
+from ..core.recipes import RECIPES, blue_wool_dose
+from .properties import RECIPE_IDS
+
 from .stats import annual_dose, emitter_schedule, image_max
 
 
@@ -151,12 +154,19 @@ class MATERIAL_PT_lightfade(bpy.types.Panel):
         props = context.material.lightfade
         layout.active = props.enabled
         layout.prop(props, "recipe")
+        recipe = RECIPES[RECIPE_IDS[props.recipe]]
+        layout.label(text=recipe.description, icon="INFO")
         layout.prop(props, "sensitivity_mode")
         if props.sensitivity_mode == "BLUE_WOOL":
             layout.prop(props, "blue_wool")
+            dose = blue_wool_dose(props.blue_wool) / 1e6
+            layout.label(text=f"Just-noticeable fade after ~{dose:.3g} Mlx·h of UV-free light")
         else:
             layout.prop(props, "beta")
         layout.prop(props, "albedo_image")
+        if props.aged_image is not None:
+            layout.label(text=f"Aged on '{props.aged_object}' into '{props.aged_image.name}'",
+                         icon="CHECKMARK")
 
 
 CLASSES = (
