@@ -5,7 +5,6 @@ import bpy
 
 from ..core.recipes import RECIPES, blue_wool_dose
 from .properties import RECIPE_IDS
-
 from .stats import annual_dose, emitter_schedule, image_max
 
 
