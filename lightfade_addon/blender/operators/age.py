@@ -4,6 +4,7 @@ import bpy
 from bpy.props import FloatProperty
 
 from ..aging import AgingError, age_scene
+from ..progress import window_progress
 
 
 class LIGHTFADE_OT_age(bpy.types.Operator):
@@ -30,25 +31,12 @@ albedo, simulate or load the fading grid, and wire new aged images into the mate
     def execute(self, context):
         scene = context.scene
         years = scene.lightfade.years if self.years < 0 else self.years
-        wm = context.window_manager
-        use_progress = context.window is not None
-        if use_progress:
-            wm.progress_begin(0, 1000)
-
-        def progress(fraction, message):
-            if use_progress:
-                wm.progress_update(int(1000 * fraction))
-            elif bpy.app.background:
-                print(f"LightFade: {100 * fraction:5.1f}% {message}")
-
         try:
-            images = age_scene(scene, years, context.selected_objects, progress,
-                               report=lambda msg: self.report({"WARNING"}, msg))
+            with window_progress(context) as progress:
+                images = age_scene(scene, years, context.selected_objects, progress,
+                                   report=lambda msg: self.report({"WARNING"}, msg))
         except AgingError as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
-        finally:
-            if use_progress:
-                wm.progress_end()
         self.report({"INFO"}, f"Aged {len(images)} material(s) to {years:g} years")
         return {"FINISHED"}

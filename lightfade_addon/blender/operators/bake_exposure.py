@@ -4,6 +4,7 @@ import bpy
 from bpy.props import BoolProperty
 
 from ..bake import BakeSettings, LightFadeBakeError, bake_exposure
+from ..progress import window_progress
 
 
 class LIGHTFADE_OT_bake_exposure(bpy.types.Operator):
@@ -26,29 +27,18 @@ LightFade enabled)"""
         return context.scene is not None and context.mode == "OBJECT"
 
     def execute(self, context):
-        wm = context.window_manager
-        use_progress = context.window is not None
         selected = list(context.selected_objects)
         settings = BakeSettings.from_scene(context.scene, unwrap=self.unwrap)
-
-        def progress(done, total, _text):
-            if use_progress:
-                wm.progress_update(int(1000 * (done - 1) / max(total, 1)))
-
-        if use_progress:
-            wm.progress_begin(0, 1000)
         try:
-            result = bake_exposure(
-                context, selected, settings,
-                report=lambda msg: self.report({"WARNING"}, msg),
-                progress=progress,
-            )
+            with window_progress(context) as progress:
+                result = bake_exposure(
+                    context, selected, settings,
+                    report=lambda msg: self.report({"WARNING"}, msg),
+                    progress=lambda done, total, text: progress((done - 1) / max(total, 1), text),
+                )
         except LightFadeBakeError as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
-        finally:
-            if use_progress:
-                wm.progress_end()
         n = sum(len(m) for m in result["maps"].values())
         self.report(
             {"INFO"},
