@@ -298,6 +298,9 @@ def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
     flat = c.reshape(-1, C)
     n_samples = flat.shape[0]
     t, record_idx = _time_grid(duration, steps, times)
+    # bound on the volume fractions: fading only lowers them; a product can gain at
+    # most its yields' worth from sources that start at <= 1
+    fmax = 1.0 if Y is None else 1.0 + Y.sum(axis=0)
 
     if workers is None:
         workers = min(8, os.cpu_count() or 1)
@@ -305,7 +308,7 @@ def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
 
     def work(bound):
         s, e = bound
-        stack = LayeredStack(A, S, beta, E0, g, lam, thickness, layers, e - s)
+        stack = LayeredStack(A, S, beta, E0, g, lam, thickness, layers, e - s, fmax)
         f0 = np.broadcast_to(flat[s:e], (layers, e - s, C)).copy()
         return _run_chunk(stack, f0, t, record_idx, scheme, Y)
 

@@ -205,3 +205,21 @@ class TestValidation:
             simulate(**dict(args, wavelengths=toy["wavelengths"][::-1]))
         with pytest.raises(ValueError, match="absorption"):
             simulate(**dict(args, absorption=toy["absorption"][:, :40]))
+
+
+class TestThinLayerSeries:
+    def test_series_equals_closed_form_below_the_threshold(self):
+        from lightfade_addon.core.kubelka import kubelka_layer
+        from lightfade_addon.core.layered import THIN_LAYER_Y, kubelka_into
+
+        rng = np.random.default_rng(9)
+        Kd = np.concatenate([rng.uniform(0, 0.03, 4000), [0.0, 1e-12]])
+        Sd = np.concatenate([rng.uniform(0, 0.01, 4000), [0.004, 0.0]])
+        y = Kd * (Kd + 2 * Sd)
+        keep = y <= THIN_LAYER_Y
+        Kd, Sd = Kd[keep], Sd[keep]
+        rho, tau, *scratch = (np.empty_like(Kd) for _ in range(5))
+        kubelka_into(Kd, Sd, rho, tau, *scratch)
+        rho_ref, tau_ref = kubelka_layer(Kd, Sd, 1.0)
+        np.testing.assert_allclose(rho, rho_ref, rtol=1e-12, atol=1e-300)
+        np.testing.assert_allclose(tau, tau_ref, rtol=1e-12)
