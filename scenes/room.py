@@ -26,6 +26,7 @@ SUN = dict(elevation=20.0, azimuth=20.0)  # low sun, travelling toward +x and +y
 SUN_FLOOR_LUX = 20000.0
 DRESSER = dict(x=(-1.45, -0.15), y=(1.48, 1.98), height=0.88)
 LAMP_XY = (-0.95, 1.70)
+FLOOR_TONES = ((0.84, 0.72, 0.55), (0.72, 0.59, 0.43))  # sRGB, lightest and darkest boards
 RUG = dict(center=(-0.05, 0.55), size=(2.4, 1.6), height=0.006)
 POSTER = dict(center=(-0.62, 1.45), size=(0.56, 0.78))
 
@@ -67,7 +68,9 @@ def _walls(coll):
 
 def _floor(coll, res):
     (x0, x1), (y0, y1) = ROOM["x"], ROOM["y"]
-    img = C.image_from_array("Floor_Oak", T.wood_planks((res, res), extent=(x1 - x0, y1 - y0)))
+    # Pale (white) oak: lignin yellowing reads clearly on it, as in the paper's Figure 9.
+    img = C.image_from_array("Floor_Oak", T.wood_planks((res, res), extent=(x1 - x0, y1 - y0),
+                                                        base=FLOOR_TONES[0], dark=FLOOR_TONES[1]))
     mat = C.aging_material("Floor_Oak", img, "bare-wood", roughness=0.45, specular=0.4)
     return C.grid_mesh("Floor", 1, 1, lambda u, v: (x0 + u * (x1 - x0), y0 + v * (y1 - y0), 0.0), coll, mat)
 

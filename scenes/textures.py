@@ -105,7 +105,8 @@ def _smoothstep(e0, e1, x):
 # --- wood -------------------------------------------------------------------------------------
 
 
-def wood_planks(size, extent=(4.0, 4.0), plank_width=0.16, plank_length=1.3, seed=1):
+def wood_planks(size, extent=(4.0, 4.0), plank_width=0.16, plank_length=1.3, seed=1,
+                base=(0.66, 0.47, 0.29), dark=(0.50, 0.33, 0.19)):
     """Oak floor boards, planks running along u.
 
     Parameters
@@ -116,6 +117,8 @@ def wood_planks(size, extent=(4.0, 4.0), plank_width=0.16, plank_length=1.3, see
         Physical size (along u, along v) in metres that the image covers.
     plank_width, plank_length : float
         Board dimensions in metres; end joints are staggered per row.
+    base, dark : (float, float, float)
+        sRGB tones of the lightest and darkest boards (default: honey oak).
     """
     h, w = size
     rng = np.random.default_rng(seed)
@@ -131,8 +134,8 @@ def wood_planks(size, extent=(4.0, 4.0), plank_width=0.16, plank_length=1.3, see
     # per-plank tone: hash the id to a stable random number
     tone = np.sin(plank_id * 12.9898 + seed * 78.233) * 43758.5453
     tone = tone - np.floor(tone)  # [0, 1)
-    base = np.array([0.66, 0.47, 0.29])  # honey oak, sRGB
-    dark = np.array([0.50, 0.33, 0.19])
+    base = np.asarray(base, dtype=float)  # sRGB
+    dark = np.asarray(dark, dtype=float)
     col_rgb = base + (dark - base) * (0.25 + 0.6 * tone)[..., None]
     # grain: long streaks along u, wobbling with low-frequency noise
     wob = fractal_noise(h, w, rng, cells=(int(extent[1] * 3), int(extent[0] * 1)), octaves=3)

@@ -66,8 +66,11 @@ def on_load(_dummy=None, _more=None):
 
 @persistent
 def on_save(_dummy=None, _more=None):
+    # Pack only what changed: packing an unchanged, already packed image again
+    # drops its data in Blender 5.0 (seen with float images).
     for image in bpy.data.images:
-        if image.name.startswith(aging.AGED_PREFIX) and image.has_data:
+        if (image.name.startswith(aging.AGED_PREFIX) and image.has_data
+                and (image.packed_file is None or image.is_dirty)):
             image.pack()
 
 

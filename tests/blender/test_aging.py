@@ -166,6 +166,16 @@ class TestSaveReload:
         assert np.abs(rgba(mat.lightfade.aged_image) - aged_before).max() > 0.01
 
 
+    def test_saving_twice_keeps_the_aged_pixels(self, carpet, tmp_path):
+        bpy.ops.lightfade.age(years=4)
+        path = str(tmp_path / "twice.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        bpy.ops.wm.open_mainfile(filepath=path)
+        image = bpy.data.materials["Carpet"].lightfade.aged_image
+        assert image.packed_file is not None and tuple(image.size) == (64, 64)
+
+
 class TestBadInput:
     def test_without_exposure_maps_the_operator_reports_the_object(self, floor_scene):
         with pytest.raises(RuntimeError, match="Object 'Floor' has no exposure maps"):
