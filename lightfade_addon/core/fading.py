@@ -28,8 +28,10 @@ colourant ``k`` gains times ``yields[j, k]`` (lignin turning into quinones).
 
 from __future__ import annotations
 
+import multiprocessing
 import os
-from concurrent.futures import ThreadPoolExecutor
+import sys
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,9 +43,12 @@ __all__ = ["simulate", "SimulationResult", "SCHEMES", "trapezoid_weights"]
 #: Time-stepping schemes, by name (see the module docstring).
 SCHEMES = ("paper", "heun")
 
-#: Columns (samples × wavelengths) per thread chunk; large enough that numpy's
-#: per-call overhead is small against the work of one sweep row.
-_CHUNK_COLUMNS = 4096
+#: Columns (samples × wavelengths) per chunk; large enough that numpy's per-call
+#: overhead is small against the work of one sweep row.
+_CHUNK_COLUMNS = 6144
+#: Layer-solves (layers × samples × wavelengths × flux solves) above which a run is
+#: split over processes by default (about a second on one core).
+_PARALLEL_WORK = 5e7
 
 
 @dataclass(frozen=True)
@@ -171,6 +176,32 @@ def _time_grid(duration, steps, record):
 # -- the engine ----------------------------------------------------------------------
 
 
+def _run_job(job):
+    """One chunk of samples, start to end (module level, so that it pickles)."""
+    (A, S, beta, E0, g, lam, thickness, layers, fmax, c, t, record_idx, scheme, Y) = job
+    stack = LayeredStack(A, S, beta, E0, g, lam, thickness, layers, c.shape[0], fmax)
+    f0 = np.broadcast_to(c, (layers, c.shape[0], c.shape[1])).copy()
+    return _run_chunk(stack, f0, t, record_idx, scheme, Y)
+
+
+def _parallelism(workers, work):
+    """(workers, "processes" | "threads" | "serial") for ``work`` layer-solves.
+
+    numpy's per-call overhead holds the GIL, and the sweeps make many small calls,
+    so threads barely help: big runs use forked processes (never inside Blender,
+    whose Python must not be forked), small runs stay on one thread.
+    """
+    cpus = os.cpu_count() or 1
+    can_fork = ("fork" in multiprocessing.get_all_start_methods()
+                and "bpy" not in sys.modules)
+    if workers is None:
+        workers = min(cpus, 8) if (work >= _PARALLEL_WORK and can_fork) else 1
+    workers = max(1, int(workers))
+    if workers == 1:
+        return 1, "serial"
+    return workers, ("processes" if can_fork else "threads")
+
+
 def _chunks(n_samples, W, workers):
     """Split the samples into equal chunks: a multiple of ``workers``, each about
     ``_CHUNK_COLUMNS`` columns (samples × wavelengths) wide."""
@@ -261,7 +292,9 @@ def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
         Increasing times in (0, duration] at which to also return the
         reflectance; each becomes a step boundary.
     workers : int, optional
-        Threads over chunks of samples (default: CPU count, at most 8).
+        Parallel workers over chunks of samples. Default: one for small runs; for
+        large ones the CPU count (at most 8), as forked processes outside Blender.
+        Results do not depend on it.
 
     Returns
     -------
@@ -302,21 +335,20 @@ def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
     # most its yields' worth from sources that start at <= 1
     fmax = 1.0 if Y is None else 1.0 + Y.sum(axis=0)
 
-    if workers is None:
-        workers = min(8, os.cpu_count() or 1)
-    bounds = _chunks(n_samples, W, max(1, int(workers)))
-
-    def work(bound):
-        s, e = bound
-        stack = LayeredStack(A, S, beta, E0, g, lam, thickness, layers, e - s, fmax)
-        f0 = np.broadcast_to(flat[s:e], (layers, e - s, C)).copy()
-        return _run_chunk(stack, f0, t, record_idx, scheme, Y)
-
-    if workers > 1 and len(bounds) > 1:
-        with ThreadPoolExecutor(max_workers=min(workers, len(bounds))) as pool:
-            parts = list(pool.map(work, bounds))
+    solves = len(t) * (2 if scheme == "heun" else 1)
+    workers, pool_kind = _parallelism(workers, layers * n_samples * W * solves)
+    bounds = _chunks(n_samples, W, workers)
+    jobs = [(A, S, beta, E0, g, lam, thickness, layers, fmax, flat[s:e], t, record_idx,
+             scheme, Y) for s, e in bounds]
+    if pool_kind == "processes" and len(jobs) > 1:
+        with ProcessPoolExecutor(max_workers=min(workers, len(jobs)),
+                                 mp_context=multiprocessing.get_context("fork")) as pool:
+            parts = list(pool.map(_run_job, jobs))
+    elif pool_kind == "threads" and len(jobs) > 1:
+        with ThreadPoolExecutor(max_workers=min(workers, len(jobs))) as pool:
+            parts = list(pool.map(_run_job, jobs))
     else:
-        parts = [work(b) for b in bounds]
+        parts = [_run_job(job) for job in jobs]
 
     initial = np.concatenate([p[0] for p in parts]).reshape(batch + (W,))
     final = np.concatenate([p[1] for p in parts]).reshape(batch + (W,))
