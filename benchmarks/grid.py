@@ -149,13 +149,13 @@ def main(argv=None):
     rows += [f"| grid build, 1 spectrum (1000 nodes × 33 doses) | {b1:.2f} s |",
              f"| grid build, 2 spectra (3 mixes) | {b2:.2f} s |"]
     for n in (2048, 512):
-        rgb = synthetic_photo(n, n)
+        rgb = srgb_decode(synthetic_photo(n, n)).astype(np.float32)   # linear, as in Blender
         y, x = np.mgrid[0:n, 0:n] / n
         expo = np.clip(0.2 + x * y, 0, 1)
         out = np.empty((n * n, 4), np.float32)
         for lights, e in (([SUN], expo), ([SUN, lamp], np.stack([expo, 1 - expo]))):
             t0 = time.perf_counter()
-            ager = TextureAger(rgb, RECIPE, lights, e, encoding="srgb", max_years=50)
+            ager = TextureAger(rgb, RECIPE, lights, e, encoding="linear", max_years=50)
             prep = time.perf_counter() - t0
             years = iter(np.linspace(1, 49, 100))
             upd = timed(lambda: ager.age(next(years), out=out), 7)
