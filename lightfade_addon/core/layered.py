@@ -92,26 +92,25 @@ def kubelka_into(Kd, Sd, rho, tau, x, m, g, thin=None):
     np.divide(g, rho, out=rho)         # rho = Sd g / den
 
 
+def _series_into(y, coefficients, out):
+    """``1 + c1 y + c2 y² + c3 y³`` by Horner's rule into ``out``; coefficients (c3, c2, c1)."""
+    c3, c2, c1 = coefficients
+    np.multiply(y, c3, out=out)
+    out += c2
+    out *= y
+    out += c1
+    out *= y
+    out += 1.0
+
+
 def _thin_layer_into(Kd, Sd, rho, tau, y, t, s):
     """Kubelka's formulae as series in ``y = (alpha d)^2`` (``y`` given), in place.
 
     ``rho = Sd t / (1 + (Kd + Sd) t)`` and ``tau = sech / (1 + (Kd + Sd) t)`` with
     ``t = tanh(x)/x``: the closed form divided by ``cosh x``.
     """
-    c3, c2, c1 = _TANHC
-    np.multiply(y, c3, out=t)
-    t += c2
-    t *= y
-    t += c1
-    t *= y
-    t += 1.0                           # t = tanh(x) / x
-    c3, c2, c1 = _SECH
-    np.multiply(y, c3, out=s)
-    s += c2
-    s *= y
-    s += c1
-    s *= y
-    s += 1.0                           # s = sech(x)
+    _series_into(y, _TANHC, t)         # t = tanh(x) / x
+    _series_into(y, _SECH, s)          # s = sech(x)
     np.add(Kd, Sd, out=y)
     y *= t
     y += 1.0                           # den = 1 + (Kd + Sd) t
