@@ -29,7 +29,7 @@ import numpy as np
 from benchmarks.problem import synthetic_photo
 from lightfade_addon.core.aging import Light, TextureAger
 from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, reflectance_to_XYZ, srgb_decode)
+    XYZ_to_Lab, delta_E_2000, reflectance_to_XYZ, srgb_decode)
 from lightfade_addon.core.fading import simulate
 from lightfade_addon.core.grid import GridSettings, build_grid
 from lightfade_addon.core.recipes import RECIPES

@@ -361,7 +361,7 @@ def sky_light_only(scene, stops=3.0):
 
 def add_floor_camera():
     """A camera looking steeply down at the rug's place (the floor footprint after the reveal)."""
-    (cx, cy), (w, h) = room.RUG["center"], room.RUG["size"]
+    cx, cy = room.RUG["center"]
     cam = C.add_camera("Camera.Floor", (cx + 0.55, cy - 1.95, 2.35), (cx + 0.1, cy + 0.15, 0.0), lens=18.0)
     return cam.name
 

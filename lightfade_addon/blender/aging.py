@@ -448,7 +448,7 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
                     f"({', '.join(o.name for o in users[:3])}): each lit differently, they need "
                     "their own copies (Object > Relations > Make Single User > Materials)")
 
-            def step(f, msg, k=k):
+            def step(f, msg, k=k, material=material):
                 if progress:
                     progress((k + f) / len(pairs), f"{material.name}: {msg}")
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from lightfade_addon.blender import bake as bake_mod
-from lightfade_addon.blender.bake import BakeSettings, LightFadeBakeError, bake_exposure
+from lightfade_addon.blender.bake import BakeSettings, bake_exposure
 
 SMALL = BakeSettings(resolution=64, samples=8, margin=2)
 

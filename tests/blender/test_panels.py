@@ -7,7 +7,6 @@ that checks every ``prop`` and ``operator`` call.
 from types import SimpleNamespace
 
 import bpy
-import pytest
 
 from lightfade_addon.blender.bake import BakeSettings, bake_exposure
 

@@ -6,7 +6,6 @@ from pathlib import Path
 
 import addon_utils
 import bpy
-import pytest
 
 ADDON = "lightfade_addon"
 ROOT = Path(__file__).resolve().parents[2]
