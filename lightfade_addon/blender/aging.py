@@ -350,7 +350,9 @@ def apply_years(material, years, force=False, scene=None):
     years = float(years)
     if years > state.ager.max_years and scene is not None:
         obj = scene.objects.get(material.lightfade.aged_object)
-        prepare_material(scene, obj, material, years)
+        if obj is None:                 # the object is gone: keep the last texture
+            return False
+        prepare_material(scene, obj, material, years)   # a longer dose axis
         return True
     if not force and state.years == years:
         return False

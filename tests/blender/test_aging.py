@@ -76,6 +76,13 @@ class TestAge:
         _, lit = footprint(carpet["floor"])
         assert np.abs(twenty - one)[lit].max() > 0.02
 
+    def test_years_beyond_the_prepared_range_extend_the_grid(self, carpet):
+        bpy.ops.lightfade.age(years=5)                 # prepared for up to 100 years
+        image = carpet["material"].lightfade.aged_image
+        five = rgba(image).copy()
+        bpy.context.scene.lightfade.years = 150.0
+        assert np.abs(rgba(image) - five).max() > 0.01
+
     def test_keyframed_years_update_per_frame(self, carpet):
         bpy.ops.lightfade.age(years=0)
         scene = bpy.context.scene
