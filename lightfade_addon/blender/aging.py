@@ -108,11 +108,11 @@ def _principled(material):
         return None
     outputs = [n for n in tree.nodes if n.type == "OUTPUT_MATERIAL"]
     out = next((n for n in outputs if n.is_active_output), outputs[0] if outputs else None)
-    if out is None or not out.inputs["Surface"].is_linked:
-        return next((n for n in tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
-    node = out.inputs["Surface"].links[0].from_node
-    return node if node.type == "BSDF_PRINCIPLED" else \
-        next((n for n in tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
+    if out is not None and out.inputs["Surface"].is_linked:
+        node = out.inputs["Surface"].links[0].from_node
+        if node.type == "BSDF_PRINCIPLED":
+            return node
+    return next((n for n in tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
 
 
 def albedo_source(material):

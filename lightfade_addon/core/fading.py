@@ -223,16 +223,16 @@ def _advance(f, rate, dt, yields):
 
 def _run_chunk(stack, f, t, record_idx, scheme, yields):
     """Time-step one chunk; returns (initial, final, fractions, history)."""
-    history = []
-    record_at = set(record_idx.tolist())
+    wanted = set(record_idx.tolist())
+    recorded = {}
     initial = None
     for k in range(len(t) - 1):
         dt = t[k + 1] - t[k]
         r0, R0 = stack.rates(f)
         if initial is None:
             initial = R0
-        if k in record_at:
-            history.append((k, R0))
+        if k in wanted:
+            recorded[k] = R0
         if scheme == "paper":
             f = _advance(f, r0, dt, yields)
         else:  # heun: exponential predictor-corrector on the rate
@@ -243,12 +243,8 @@ def _run_chunk(stack, f, t, record_idx, scheme, yields):
     final = stack.reflectance(f)
     if initial is None:
         initial = final
-    last = len(t) - 1
-    if last in record_at:
-        history.append((last, final))
-    hist = {k: R for k, R in history}
-    ordered = [hist[k] for k in record_idx.tolist()]
-    return initial, final, f, ordered
+    recorded[len(t) - 1] = final
+    return initial, final, f, [recorded[k] for k in record_idx.tolist()]
 
 
 def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
