@@ -1,8 +1,9 @@
-"""Exposure bake: occlusion, calibration in lux, exact restoration, errors, persistence.
+"""Exposure bake: occlusion, calibration in lux, light groups, real materials, UV checks,
+texel density, cancel, exact restoration, errors, persistence.
 
-Calibration (see ``lightfade_addon.blender.bake``): Cycles' DIFFUSE bake without colour
-gives ``E / pi`` for irradiance ``E`` in Blender's nominal W/m²; maps store
-``683 * pi * value`` lux, so a sun of strength S at zenith angle θ gives 683 S cosθ lux and
+Calibration (see ``lightfade_addon.blender.bake.common``): Cycles' DIFFUSE bake without
+colour gives ``E / pi`` for irradiance ``E`` in Blender's nominal W/m²; maps store
+``683 * pi * Y`` lux, so a sun of strength S at zenith angle θ gives 683 S cosθ lux and
 a point lamp of P watts at distance r gives 683 P / (4 pi r²) lux.
 """
 
@@ -12,8 +13,16 @@ import bpy
 import numpy as np
 import pytest
 
-from lightfade_addon.blender import bake as bake_mod
-from lightfade_addon.blender.bake import BakeSettings, bake_exposure
+from lightfade_addon.blender.bake import (
+    BakeCancelled,
+    BakeSettings,
+    BakeState,
+    LightFadeBakeError,
+    bake_exposure,
+    exposure_signature,
+    lights_and_exposure,
+    remove_exposure,
+)
 
 SMALL = BakeSettings(resolution=64, samples=8, margin=2)
 
@@ -92,7 +101,7 @@ class TestBakeExposure:
         assert [(m.emitter, m.emitter_kind, m.image.name) for m in maps] == [("Sun", "SUN", image.name)]
         assert floor_scene["floor"].lightfade.uv_map == "UVMap"
 
-    def test_point_lamp_calibration_and_one_map_per_emitter(self, floor_scene, lf):
+    def test_point_lamp_calibration_and_one_map_per_group(self, floor_scene, lf):
         P, r = 100.0, 2.0
         lf.add_point(P, (-0.5, -0.5, r))
         result = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
@@ -108,6 +117,8 @@ class TestBakeExposure:
 
     def test_world_and_emissive_mesh_are_emitters(self, floor_scene, lf):
         world = bpy.data.worlds.new("Sky")
+        world.lightfade.spectrum = "DAYLIGHT"  # a world counts once it has a spectrum
+        world.lightfade.hours_per_day = 10.0
         world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.5
         world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
         bpy.context.scene.world = world
@@ -119,6 +130,7 @@ class TestBakeExposure:
         bsdf.inputs["Emission Color"].default_value = (1, 1, 1, 1)
         bsdf.inputs["Emission Strength"].default_value = 5.0
         panel.data.materials.append(mat)
+        panel.lightfade_emitter.hours_per_day = 4.0  # its own group (the sun has 8 h)
         before = snapshot()
         result = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
         assert set(result["maps"]["Floor"]) == {"Sun", "World", "Panel"}
@@ -150,31 +162,32 @@ class TestBakeExposure:
         assert result["maps"]["Floor"]["Sun"].users >= 1
 
     def test_state_restored_when_bake_raises(self, floor_scene, lf, monkeypatch):
-        lf.add_point()
+        lf.add_point()  # LED: a second group
         floor_scene["box"].select_set(True)
         before = snapshot()
         calls = []
+        real = BakeState.bake
 
-        def failing(settings, uv_name):
+        def failing(state):
             calls.append(1)
             if len(calls) == 2:
                 raise RuntimeError("simulated Cycles failure")
-            return {"FINISHED"}
+            return real(state)
 
-        monkeypatch.setattr(bake_mod, "_cycles_bake", failing)
+        monkeypatch.setattr(BakeState, "bake", failing)
         with pytest.raises(RuntimeError, match="simulated"):
             bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
+        assert len(calls) == 2
         after = snapshot()
-        made = set(after.pop("images")) - set(before.pop("images"))
-        assert made <= {"LF_Exposure_Floor_Sun"}  # the pair that finished; no temporaries
-        assert after == before
+        assert after == before  # no partial map, no temporaries
+        assert len(floor_scene["floor"].lightfade.exposure_maps) == 0
 
     def test_rebake_replaces_the_map_everywhere(self, floor_scene, lf):
         first = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)["maps"]["Floor"]["Sun"]
         user = floor_scene["material"].node_tree.nodes.new("ShaderNodeTexImage")
         user.image = first  # e.g. the lead's aging nodes
         floor_scene["sun"].data.energy = 4.0
-        second = bake_exposure(bpy.context.scene, [floor_scene["floor"]], BakeSettings(32, 4, 1))
+        second = bake_exposure(bpy.context.scene, [floor_scene["floor"]], BakeSettings(32, 8, 1))
         image = second["maps"]["Floor"]["Sun"]
         assert tuple(image.size) == (32, 32) and user.image == image
         assert image["lightfade_bake_id"] == 2
