@@ -32,6 +32,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
+from scipy.integrate import trapezoid as _trapezoid
 
 __all__ = [
     "WAVELENGTHS",
@@ -75,9 +76,6 @@ _C2_A = 1.435e-2
 
 #: Fine grid step used to build and normalise spectra before resampling, in nm.
 _FINE_STEP = 1.0
-
-#: The trapezoid rule under its numpy 2 name, falling back to numpy 1's.
-_trapezoid = getattr(np, "trapezoid", None) or np.trapz
 
 
 def _cumulative_integral(x, y):
