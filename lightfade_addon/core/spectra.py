@@ -32,7 +32,6 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
-from scipy.integrate import trapezoid as _trapezoid
 
 __all__ = [
     "WAVELENGTHS",
@@ -76,6 +75,14 @@ _C2_A = 1.435e-2
 
 #: Fine grid step used to build and normalise spectra before resampling, in nm.
 _FINE_STEP = 1.0
+
+
+def _trapezoid(y, x, axis=-1):
+    """Trapezoid rule integral of ``y`` over ``x`` along ``axis`` (scipy's: one name on numpy
+    1.26 and 2.x; imported here, like colour, to keep the add-on's import light)."""
+    from scipy.integrate import trapezoid
+
+    return trapezoid(y, x, axis=axis)
 
 
 def _cumulative_integral(x, y):
