@@ -62,6 +62,11 @@ try:
     result["files"] = {"package": sys.modules[module].__file__, "api": api.__file__,
                        "colour": colour.__file__, "scipy": scipy.__file__}
     result["versions"] = {"colour": colour.__version__, "scipy": scipy.__version__}
+    # What the README tells users to look at: the version Blender shows in Preferences
+    # (from the installed manifest) and the package's own __version__.
+    result["shown_version"] = [".".join(map(str, addon_utils.module_bl_info(m)["version"]))
+                               for m in addon_utils.modules() if m.__name__.endswith(".lightfade")]
+    result["package_version"] = sys.modules[module].__version__
     result["checkout_imported"] = "lightfade_addon" in sys.modules
 
     # A 2 m plane with a 64 px magenta image, a 0.6 m box standing on it, a sun overhead.
@@ -130,7 +135,8 @@ def built_zip(tmp_path_factory):
         cwd=ROOT, capture_output=True, text=True, timeout=900,
     )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    return out / f"lightfade-0.1.0-{PLATFORM.replace('-', '_')}.zip"
+    version = tomllib.loads((ROOT / "blender_manifest.toml").read_text())["version"]
+    return out / f"lightfade-{version}-{PLATFORM.replace('-', '_')}.zip"
 
 
 def manifest_wheels():
@@ -189,6 +195,8 @@ def test_installed_zip_bakes_and_ages(built_zip, tmp_path):
         assert Path(result["files"][key]).is_relative_to(user_ext), result["files"]
     shipped = {w.split("/")[-1].split("-")[0]: w.split("-")[1] for w in manifest_wheels()}
     assert result["versions"] == {"colour": shipped["colour_science"], "scipy": shipped["scipy"]}
+    version = tomllib.loads((ROOT / "blender_manifest.toml").read_text())["version"]
+    assert result["shown_version"] == [version] and result["package_version"] == version
     # Aging: the sunlit texels changed, the texels under the box did not, the original stayed.
     assert len(result["aged_images"]) == 1 and result["aged_images"] != ["PosterAlbedo"]
     assert result["original_untouched"]
