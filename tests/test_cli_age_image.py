@@ -13,7 +13,6 @@ from PIL import Image
 from lightfade_addon import cli, images
 from lightfade_addon.core.colorimetry import (
     XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
-from lightfade_addon.progress import ProgressBar
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H, W = 16, 24
@@ -272,25 +271,6 @@ class TestErrors:
 
 
 class TestHelpers:
-    def test_progress_bar_on_a_terminal_redraws_one_line(self):
-        buf = io.StringIO()
-        bar = ProgressBar("grid", stream=buf, width=10, tty=True)
-        bar(0.0, "start")
-        bar(0.5, "half")
-        bar.close()
-        text = buf.getvalue()
-        assert text.count("\r") == 2 and text.endswith("\n") and text.count("\n") == 1
-        assert "[#####.....]  50%  half" in text
-
-    def test_progress_bar_elsewhere_writes_a_line_per_message(self):
-        buf = io.StringIO()
-        bar = ProgressBar("grid", stream=buf, tty=False)
-        for f in (0.0, 0.1, 0.2):
-            bar(f, "building")
-        bar(1.0, "ready")
-        bar.close()
-        assert buf.getvalue().splitlines() == ["grid   0%  building", "grid 100%  ready"]
-
     def test_parse_years_keeps_the_text(self):
         from lightfade_addon.commands.age_image import format_dose, parse_years
 
