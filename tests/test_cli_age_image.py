@@ -150,7 +150,8 @@ class TestAgeImage:
         linear = srgb_decode(src)
         images.write_image(tmp_path / "lin.exr", linear, alpha, "half",
                            {"oiio:ColorSpace": "lin_rec709_scene"})
-        stored, _, _ = images.read_image(tmp_path / "lin.exr")
+        stored, _, stored_info = images.read_image(tmp_path / "lin.exr")
+        assert stored_info.colorspace.startswith("lin_rec709")   # OpenImageIO 3.0 drops _scene
         code, out, err = age(capsys, tmp_path / "lin.exr", "--years", "0", "25",
                              "--out", tmp_path / "o")
         assert code == 0, err
@@ -158,7 +159,7 @@ class TestAgeImage:
         zero, a0, info0 = images.read_image(tmp_path / "o" / "lin_0y.exr")
         aged, a25, info25 = images.read_image(tmp_path / "o" / "lin_25y.exr")
         assert info0.dtype == info25.dtype == "half"
-        assert info25.colorspace == "lin_rec709_scene"
+        assert info25.colorspace == stored_info.colorspace
         np.testing.assert_array_equal(zero, stored)
         np.testing.assert_array_equal(a25, a0)
         via_srgb, _, _ = images.read_image(run8["out"] / "photo_25y.png")
