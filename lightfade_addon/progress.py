@@ -106,9 +106,10 @@ class ProgressBar:
     def __call__(self, fraction, message=""):
         """Report ``fraction`` in [0, 1] done, with what is being done."""
         try:
-            fraction = min(max(float(fraction), 0.0), 1.0)
+            fraction = float(fraction)
         except (TypeError, ValueError):
             fraction = 0.0
+        fraction = min(max(fraction, 0.0), 1.0) if fraction == fraction else 0.0   # NaN: 0
         prefix = f"{self.label} " if self.label else ""
         if self.tty:
             filled = int(round(fraction * self.width))

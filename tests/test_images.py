@@ -107,7 +107,7 @@ class TestLayoutsAndMetadata:
         profile = ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes()
         rgb, alpha, info = read_image(_png(tmp_path, icc_profile=profile))
         assert bytes(info.metadata["ICCProfile"]) == profile
-        assert info.colorspace.lower().startswith("srgb")  # OpenImageIO 3.0: "sRGB", 3.2: "srgb_rec709_scene"
+        assert info.colorspace.lower().startswith("srgb")      # 3.0: "sRGB"; 3.2: "srgb_rec709_scene"
         write_image(tmp_path / "out.tif", rgb, alpha, info.dtype, info.metadata)
         with Image.open(tmp_path / "out.tif") as im:
             assert im.info["icc_profile"] == profile
