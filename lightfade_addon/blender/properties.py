@@ -341,9 +341,13 @@ class LIGHTFADE_PG_object(PropertyGroup):
 YEARS_LISTENERS = []
 
 
+#: Blender stores an infinite float property as the largest float32: that is "inf" too.
+_FLOAT32_MAX = 3.0e38
+
+
 def valid_years(years):
-    """True for a finite number >= 0."""
-    return years == years and 0.0 <= years < float("inf")
+    """True for a finite number >= 0 (a property set to infinity holds ~3.4e38)."""
+    return years == years and 0.0 <= years < _FLOAT32_MAX
 
 
 def _on_years_changed(self, context):
@@ -351,6 +355,7 @@ def _on_years_changed(self, context):
     # frame-change handler instead: update callbacks do not fire for F-curves).
     if not valid_years(self.years):
         bad, self.years = self.years, self.last_valid_years      # refused, value kept
+        bad = float("inf") if bad >= _FLOAT32_MAX else bad
         print(f"LightFade: years must be a finite number >= 0, got {bad!r}; "
               f"kept {self.last_valid_years:g}")
         return
