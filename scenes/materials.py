@@ -224,7 +224,9 @@ def build(path=None, resolution=64):
     scene.camera = camera
     for obj in bpy.context.view_layer.objects:
         obj.select_set(False)
-    info = dict(plates=plates, materials=materials, camera=camera.name, view={})
+    C.configure_render(scene, 640, 400, samples=16)
+    info = dict(plates=plates, materials=materials, camera=camera.name,
+                view=C.view_settings(scene))
     if path:
         C.save_blend(path)
     return info
