@@ -273,3 +273,34 @@ def test_select_all_ages_only_ticked_materials(carpet):
     from lightfade_addon.blender.copies import copies_of
 
     assert [c.lightfade.source for c in copies_of()] == [mat]
+
+
+class TestLights:
+    def test_lights_of_one_spectrum_add_up(self, carpet, lf):
+        """Two suns of half the strength age like one: exposure maps add, never overwrite."""
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        api.age_scene(scene, years=3)
+        one = aged(carpet["material"]).copy()
+        carpet["sun"].data.energy = 15.0
+        twin = lf.add_sun(strength=15.0, name="Twin")
+        twin.rotation_euler = carpet["sun"].rotation_euler
+        assert bpy.ops.lightfade.bake_exposure() == {"FINISHED"}
+        assert len(carpet["floor"].lightfade.exposure_maps) == 2
+        api.age_scene(scene, years=3)
+        assert np.percentile(dE(aged(carpet["material"]), one), 99) < 0.5
+
+    def test_uv_filter_slows_fading(self, carpet):
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        carpet["sun"].data.lightfade.spectrum = "DAYLIGHT"          # with its UV
+        api.age_scene(scene, years=0)
+        original = aged(carpet["material"]).copy()
+        api.age_scene(scene, years=0.3)
+        bare = np.median(dE(aged(carpet["material"]), original))
+        carpet["sun"].data.lightfade.uv_filter = True
+        api.age_scene(scene, years=0.3)
+        filtered = np.median(dE(aged(carpet["material"]), original))
+        assert 1 < filtered < bare - 0.1            # UV drives part of the fading
