@@ -20,7 +20,7 @@ import numpy as np
 from ..core.aging import Light
 from .errors import AgingError
 from .pixels import read_rgba, resample
-from .properties import resolve_spectrum
+from .vocabulary import resolve_spectrum
 
 #: UV map the bake makes for meshes that need a unique exposure layout.
 BAKE_UV_MAP = "LightFadeUV"

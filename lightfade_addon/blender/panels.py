@@ -6,7 +6,7 @@ import bpy
 from ..core.recipes import RECIPES, blue_wool_dose
 from .apply import aged_copies
 from .copies import original
-from .properties import RECIPE_IDS
+from .vocabulary import RECIPE_IDS
 from .source import material_plan
 from .stats import annual_dose, emitter_schedule, image_max
 from .status import copy_status
