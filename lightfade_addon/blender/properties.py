@@ -26,6 +26,7 @@ dose of a texel is ``lux * hours_per_day * days_per_year`` lux·h.
 import bpy
 from bpy.props import (
     BoolProperty,
+    CollectionProperty,
     EnumProperty,
     FloatProperty,
     FloatVectorProperty,
