@@ -21,11 +21,12 @@ def private_grid_cache():
             os.environ["LIGHTFADE_CACHE"] = old
 
 
+#: The running session, kept for :func:`pytest_unconfigure` (which gets only the config).
+_SESSION = pytest.StashKey()
+
+
 def pytest_sessionstart(session):
     session.config.stash[_SESSION] = session
-
-
-_SESSION = pytest.StashKey()
 
 
 def pytest_unconfigure(config):
