@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from scipy.integrate import trapezoid
 
 from lightfade_addon.core import boundary_fluxes, kubelka_layer, over_ground, simulate
 from lightfade_addon.core.layered import LayeredStack, trapezoid_weights
@@ -91,7 +92,7 @@ class TestEquation3:
         Ed, Eu = boundary_fluxes(rho[None], tau[None], toy["substrate"], toy["irradiance"])
         F = 0.5 * ((Ed + Eu)[0] + (Ed + Eu)[1])
         mu_a = c[:, None] * toy["absorption"]
-        exponent = dt * toy["sensitivity"] * np.trapz(mu_a * F, toy["wavelengths"], axis=1)
+        exponent = dt * toy["sensitivity"] * trapezoid(mu_a * F, toy["wavelengths"], axis=1)
         np.testing.assert_allclose(r.fractions[0], c * np.exp(-exponent), rtol=1e-12)
 
     def test_fused_stack_equals_plain_functions(self, toy):

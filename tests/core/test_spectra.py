@@ -5,6 +5,7 @@ import sys
 
 import numpy as np
 import pytest
+from scipy.integrate import trapezoid as trapz
 
 from lightfade_addon.core.spectra import (
     LIGHTS,
@@ -17,7 +18,6 @@ from lightfade_addon.core.spectra import (
 )
 
 FINE = np.arange(300.0, 831.0)
-trapz = getattr(np, "trapezoid", None) or np.trapz
 
 
 def test_core_modules_do_not_import_bpy():
