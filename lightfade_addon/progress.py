@@ -7,9 +7,9 @@ cheap. Who shows it is an adapter:
 
 * :class:`ProgressBar` — the command line: a redrawn bar on a terminal, one plain line
   per new message anywhere else (a pipe, a log, ``blender -b``);
-* ``lightfade_addon.blender.progress.window_progress`` — Blender's window progress
-  indicator (``WindowManager.progress_*``), or a :class:`ProgressBar` line per step
-  in background mode;
+* ``lightfade_addon.blender.progress.WindowProgress`` (and ``window_progress``, its
+  context manager) — Blender's window progress indicator and status bar, or a
+  :class:`ProgressBar` line per step in background mode;
 * the Python API passes the caller's own callable straight through (or :func:`silent`).
 
 Helpers compose them: :func:`scaled` maps a sub-job onto part of the range, so that a

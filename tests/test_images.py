@@ -181,3 +181,11 @@ class TestErrors:
         with pytest.raises(OSError):
             write_image(tmp_path / "no" / "such" / "x.png", np.zeros((2, 2, 3)))
         assert list(tmp_path.iterdir()) == []
+
+    def test_without_openimageio_the_message_says_what_to_install(self, tmp_path, monkeypatch):
+        import sys
+
+        write_image(tmp_path / "x.png", np.zeros((2, 2, 3)))
+        monkeypatch.setitem(sys.modules, "OpenImageIO", None)       # import fails
+        with pytest.raises(ValueError, match=r"^cannot read '.*x.png': .*pip install OpenImageIO"):
+            read_image(tmp_path / "x.png")
