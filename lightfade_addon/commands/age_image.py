@@ -14,6 +14,7 @@ interpolation"). See ``docs/age-image.md``.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import pathlib
@@ -67,6 +68,15 @@ def build(parser):
                         help="exposure mask image of the photo's size: its luminance (0-1, "
                              "as stored; white = the full --lux, black = dark) scales the "
                              "light per pixel (default: uniform)")
+    parser.add_argument("--kinetics", default="first-order", choices=("first-order", "paper"),
+                        help="rate law of the fading: first-order (default; each dye "
+                             "molecule fades at its own rate, as in conservation practice) "
+                             "or paper (equation 3 as printed, fade rate ~ concentration²)")
+    parser.add_argument("--restore", metavar="YEARS",
+                        help="the photo is already YEARS old under the light and schedule "
+                             "given: first estimate it new (writes PHOTO_restored.png and "
+                             "PHOTO_lost.png, white where fading destroyed the colour), then "
+                             "age from new (--years 0 is the restored image)")
     parser.add_argument("--exact", action="store_true",
                         help="reference path: simulate every distinct colour directly "
                              "instead of interpolating the mixture grid (slower)")
@@ -204,6 +214,32 @@ def contact_sheet(tiles, labels, sublabels, title=""):
 # -- the command ---------------------------------------------------------------------------
 
 
+def _restore(rgb, alpha, info, years, recipe, light, exposure, base):
+    """Restore an already-old photo; write ``<base>_restored.png`` and ``<base>_lost.png``."""
+    from .. import imageio
+    from ..core.restore import restore
+    from ..progress import ProgressBar
+
+    with ProgressBar("restore") as bar:
+        try:
+            result = restore(rgb, years, recipe, [light], exposure, encoding="srgb",
+                             progress=bar)
+        except ValueError as exc:
+            raise UserError(str(exc)) from None
+    restored, lost = base.with_name(base.name + "_restored.png"), \
+        base.with_name(base.name + "_lost.png")
+    try:
+        imageio.write_image(restored, result.image, alpha, bits=info.bits)
+        imageio.write_image(lost, np.repeat(result.lost[..., None], 3, -1).astype(np.float32))
+    except (OSError, ValueError) as exc:
+        raise UserError(f"cannot write {str(restored)!r}: "
+                        f"{getattr(exc, 'strerror', None) or exc}") from None
+    share = result.lost_count / max(result.lost.size, 1)
+    print(f"restored {years:g} y of {format_dose(years * light.annual_dose)} Mlx·h: wrote "
+          f"{restored}; {result.lost_count} pixels ({share:.1%}) lost, shown white in {lost}")
+    return result.image
+
+
 def run(args):
     from .. import imageio
     from ..core.aging import Light, TextureAger, age_image_exact
@@ -230,6 +266,8 @@ def run(args):
         rgb, alpha, info = imageio.read_image(photo)
     except ValueError as exc:
         raise UserError(str(exc)) from None
+    recipe = dataclasses.replace(RECIPES[args.recipe], kinetics=args.kinetics)
+    prior_years = None if args.restore is None else _number(args.restore, "--restore", "years")
 
     out_dir = pathlib.Path(args.out) if args.out else photo.parent
     if out_dir.exists() and not out_dir.is_dir():
@@ -262,6 +300,9 @@ def run(args):
         raise UserError(f"cannot create output folder {str(out_dir)!r}: "
                         f"{exc.strerror or exc}") from None
 
+    if prior_years is not None:
+        rgb = _restore(rgb, alpha, info, prior_years, recipe, light, exposure, out_dir / stem)
+
     schedule = f"{lux:g} lux × {hours:g} h/day × {days:g} days/year"
     print(f"{photo.name}: {info.width}×{info.height}, {info.bits}-bit {info.format} "
           f"{info.mode}; recipe {args.recipe}, light {args.light}"
@@ -279,14 +320,14 @@ def run(args):
     elif args.exact:
         with ProgressBar("exact") as bar:
             try:
-                aged = age_image_exact(rgb, values, args.recipe, light, exposure,
+                aged = age_image_exact(rgb, values, recipe, light, exposure,
                                        encoding="srgb", progress=bar)
             except ValueError as exc:
                 raise UserError(str(exc)) from None
     else:
         with ProgressBar("grid") as bar:
             try:
-                ager = TextureAger(rgb, args.recipe, [light], exposure, max_years=max(values),
+                ager = TextureAger(rgb, recipe, [light], exposure, max_years=max(values),
                                    encoding="srgb", progress=bar)
             except ValueError as exc:
                 raise UserError(str(exc)) from None
