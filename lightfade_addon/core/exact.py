@@ -11,7 +11,10 @@ import numpy as np
 
 from .colorimetry import (
     XYZ_to_linear_srgb, linear_srgb_to_XYZ, reflectance_to_XYZ, srgb_decode, srgb_encode)
+from .fading import SimulationResult
 from .gamut import encode_in_gamut
+from .grid import GridSettings
+from .lattice import dose_axis
 from .lights import Light
 from .recipes import get_recipe
 from .spectra import WAVELENGTHS
@@ -26,7 +29,8 @@ def age_image_exact(rgb, years, recipe="printed-paper", light=Light(), exposure=
 
     Every distinct colour (exact values, no binning) is unmixed as in
     :class:`.aging.TextureAger` and simulated directly at the recipe's solver
-    settings, recording every requested dose; the exposure map is quantised to
+    settings, recording every requested dose and stepping at least at the grid's
+    dose nodes (so the reference is no coarser in time); the exposure map is quantised to
     ``levels`` levels (one batch each). Only one light spectrum (one :class:`Light`).
     Aged colours are mapped into [0, 1] by :func:`.gamut.encode_in_gamut`.
 
@@ -71,8 +75,13 @@ def age_image_exact(rgb, years, recipe="printed-paper", light=Light(), exposure=
             continue
         used, inverse = np.unique(key[texels], return_inverse=True)
         positive = np.unique(doses[doses > 0])
+        # step at least as finely as the grid does (its dose nodes), so that the
+        # reference is no coarser in time than what it checks
+        steps = np.union1d(positive, dose_axis(GridSettings().doses, positive[-1])[1:])
         r = recipe.simulate(recipe.concentrations(c_unmixed[used]), E0, positive[-1],
-                            record=positive)
+                            record=steps)
+        at = np.searchsorted(steps, positive)
+        r = SimulationResult(r.initial, r.reflectance, r.fractions, r.history[at], positive)
         X0 = np.maximum(reflectance_to_XYZ(r.initial, WAVELENGTHS), 1e-6)
         for y_i, d in enumerate(doses):
             if d > 0:
