@@ -2,3 +2,4 @@
 
 from . import info  # noqa: F401
 from . import age_image  # noqa: F401
+from . import scene  # noqa: F401
