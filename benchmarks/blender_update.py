@@ -68,7 +68,7 @@ def main():
     parser.add_argument("--lights", type=int, default=1, choices=(1, 2))
     parser.add_argument("--repeat", type=int, default=9)
     args = parser.parse_args()
-    from lightfade_addon.blender import aging
+    from lightfade_addon.blender import apply as aging
 
     scene, mat = build(args.size, args.lights)
     t0 = time.perf_counter()

@@ -177,7 +177,7 @@ def apply_tags(scene):
 
 def annual_doses(scene):
     """{object name: (H, W) lux·h per year} from the baked maps and the emitters' schedules."""
-    from lightfade_addon.blender.aging import lights_and_exposure
+    from lightfade_addon.blender.exposure import lights_and_exposure
 
     doses = {}
     for obj in scene.objects:

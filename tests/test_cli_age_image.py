@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from lightfade_addon import cli, imageio
+from lightfade_addon import cli, images
 from lightfade_addon.core.colorimetry import (
     XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
 from lightfade_addon.progress import ProgressBar
@@ -56,7 +56,7 @@ def cache(tmp_path_factory):
 def make_photo(folder, name="photo.png", bits=8):
     rgb, alpha = photo_samples(bits)
     path = folder / name
-    imageio.write_image(path, rgb, alpha, bits=bits)
+    images.write_image(path, rgb, alpha, bits)
     return path
 
 
@@ -94,23 +94,23 @@ class TestAgeImage:
         assert sha(run8["photo"]) == run8["before"]
 
     def test_zero_years_is_bit_identical(self, run8):
-        src, a_src, info = imageio.read_image(run8["photo"])
-        out, a_out, info0 = imageio.read_image(run8["out"] / "photo_0y.png")
+        src, a_src, info = images.read_image(run8["photo"])
+        out, a_out, info0 = images.read_image(run8["out"] / "photo_0y.png")
         assert info0.bits == 8 and info0.mode == "RGBA"
         np.testing.assert_array_equal(np.rint(out * 255), np.rint(src * 255))
         np.testing.assert_array_equal(np.rint(a_out * 255), np.rint(a_src * 255))
 
     def test_later_years_fade_more_and_keep_alpha(self, run8):
-        src, a_src, _ = imageio.read_image(run8["photo"])
+        src, a_src, _ = images.read_image(run8["photo"])
         dE = []
         for y in ("2.5", "5", "25"):
-            out, a_out, info = imageio.read_image(run8["out"] / f"photo_{y}y.png")
+            out, a_out, info = images.read_image(run8["out"] / f"photo_{y}y.png")
             assert info.bits == 8
             np.testing.assert_array_equal(a_out, a_src)
             dE.append(mean_dE(src, out))
         assert 0.05 < dE[0] < dE[1] < dE[2], dE
         # magenta fades first on printed paper: the magenta patch loses chroma
-        out25, _, _ = imageio.read_image(run8["out"] / "photo_25y.png")
+        out25, _, _ = images.read_image(run8["out"] / "photo_25y.png")
         L0, L25 = lab(src[2:7, 3:9]), lab(out25[2:7, 3:9])
         assert np.hypot(L25[..., 1], L25[..., 2]).mean() < np.hypot(L0[..., 1], L0[..., 2]).mean()
 
@@ -132,9 +132,9 @@ class TestAgeImage:
         before = sha(photo)
         code, out, err = age(capsys, photo, "--years", "0", "25", "--out", tmp_path / "o")
         assert code == 0, err
-        src, a_src, _ = imageio.read_image(photo)
-        zero, a0, info0 = imageio.read_image(tmp_path / "o" / "deep_0y.png")
-        aged, a25, info25 = imageio.read_image(tmp_path / "o" / "deep_25y.png")
+        src, a_src, _ = images.read_image(photo)
+        zero, a0, info0 = images.read_image(tmp_path / "o" / "deep_0y.png")
+        aged, a25, info25 = images.read_image(tmp_path / "o" / "deep_25y.png")
         assert info0.bits == info25.bits == 16
         np.testing.assert_array_equal(np.rint(zero * 65535), np.rint(src * 65535))
         np.testing.assert_array_equal(a0, a_src)
@@ -149,12 +149,12 @@ class TestAgeImage:
         photo = make_photo(tmp_path)
         mask = np.zeros((H, W, 3))
         mask[:, W // 2:] = 1.0                                   # right half in the light
-        imageio.write_image(tmp_path / "mask.png", mask)
+        images.write_image(tmp_path / "mask.png", mask)
         code, out, err = age(capsys, photo, "--years", "25", "--exposure", tmp_path / "mask.png",
                              "--out", tmp_path)
         assert code == 0, err
-        src, _, _ = imageio.read_image(photo)
-        aged, _, _ = imageio.read_image(tmp_path / "photo_25y.png")
+        src, _, _ = images.read_image(photo)
+        aged, _, _ = images.read_image(tmp_path / "photo_25y.png")
         np.testing.assert_array_equal(aged[:, : W // 2], src[:, : W // 2])
         assert mean_dE(src[:, W // 2:], aged[:, W // 2:]) > 0.5
         assert "mask scales them by 0.00-1.00" in out
@@ -166,18 +166,16 @@ class TestAgeImage:
                               "--out", str(tmp_path)],
                              cwd=ROOT, capture_output=True, text=True, timeout=120)
         assert res.returncode == 0, res.stderr
-        exact, _, _ = imageio.read_image(tmp_path / "photo_25y.png")
-        grid, _, _ = imageio.read_image(run8["out"] / "photo_25y.png")
-        src, _, _ = imageio.read_image(run8["photo"])
+        exact, _, _ = images.read_image(tmp_path / "photo_25y.png")
+        grid, _, _ = images.read_image(run8["out"] / "photo_25y.png")
+        src, _, _ = images.read_image(run8["photo"])
         gap = delta_E_2000(lab(exact), lab(grid))
         assert gap.max() < 1.0 < mean_dE(src, exact), (gap.max(), mean_dE(src, exact))
-        zero, _, _ = imageio.read_image(tmp_path / "photo_0y.png")
+        zero, _, _ = images.read_image(tmp_path / "photo_0y.png")
         np.testing.assert_array_equal(zero, src)
 
     def test_help_documents_defaults_and_units(self, capsys):
-        with pytest.raises(SystemExit) as exc:
-            cli.main(["age-image", "--help"])
-        assert exc.value.code == 0
+        assert cli.main(["age-image", "--help"]) == 0
         text = " ".join(capsys.readouterr().out.split())
         for s in ("default: printed-paper", "default: daylight-glass", "in lux (default: 150",
                   "in hours, 0-24 (default: 8)", "in days, 0-366 (default: 365)", "UV filter"):
@@ -197,7 +195,7 @@ def _case_files(tmp_path, case):
         (tmp_path / "file").write_text("x")
         return [photo, "--years", "5", "--out", tmp_path / "file"]
     if case == "mask-size":
-        imageio.write_image(tmp_path / "m.png", np.ones((H + 1, W, 3)))
+        images.write_image(tmp_path / "m.png", np.ones((H + 1, W, 3)))
         return base + ["--years", "5", "--exposure", tmp_path / "m.png"]
     if case == "mask-missing":
         return base + ["--years", "5", "--exposure", tmp_path / "none.png"]
@@ -207,7 +205,7 @@ def _case_files(tmp_path, case):
         return base + ["--years", "5"]
     if case == "output-is-mask":
         (tmp_path / "out").mkdir()
-        imageio.write_image(tmp_path / "out" / "photo_5y.png", np.ones((H, W, 3)))
+        images.write_image(tmp_path / "out" / "photo_5y.png", np.ones((H, W, 3)))
         return base + ["--years", "5", "--exposure", tmp_path / "out" / "photo_5y.png"]
     extra = {
         "negative-years": ["--years", "0", "-5"],
@@ -240,8 +238,10 @@ ERROR_CASES = {
     "nan-lux": "--lux",
     "hours": "--hours-per-day",
     "days": "--days-per-year",
-    "recipe": "valid recipes: printed-paper, dyed-fabric, painted-wood, bare-wood",
-    "light": "valid lights: daylight, daylight-glass, incandescent, fluorescent, led",
+    "recipe": ["--recipe: invalid choice: 'velvet'", "printed-paper", "dyed-fabric",
+               "painted-wood", "bare-wood"],
+    "light": ["--light: invalid choice: 'candle'", "daylight", "daylight-glass",
+              "incandescent", "fluorescent", "led"],
 }
 
 
@@ -254,7 +254,9 @@ class TestErrors:
         assert code == 2
         lines = err.strip().splitlines()
         assert len(lines) == 1 and lines[0].startswith("lightfade: error: "), err
-        assert ERROR_CASES[case] in lines[0]
+        expected = ERROR_CASES[case]
+        for part in [expected] if isinstance(expected, str) else expected:
+            assert part in lines[0]
         assert "Traceback" not in err
         assert {p: sha(p) for p in hashes} == hashes            # nothing overwritten
         new = [p for p in tmp_path.rglob("*") if p.is_file() and p not in hashes]

@@ -6,7 +6,7 @@ groups and handlers; :func:`unregister` undoes them in reverse.  Neither touches
 
 import bpy
 
-from . import cli_command, handlers, panels, properties
+from . import cache, cli_command, handlers, panels, properties
 from .operators import CLASSES as _OPERATOR_CLASSES
 
 classes = (
@@ -22,12 +22,14 @@ def register():
         bpy.utils.register_class(cls)
     properties.register_pointers()
     handlers.register()
+    cache.register()
     cli_command.register()
 
 
 def unregister():
     """Exactly undo :func:`register`, in reverse order."""
     cli_command.unregister()
+    cache.unregister()
     handlers.unregister()
     properties.unregister_pointers()
     for cls in reversed(classes):

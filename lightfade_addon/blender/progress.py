@@ -1,32 +1,30 @@
-"""Progress for long operators: the window's progress indicator, or lines in background mode."""
+"""The Blender adapter of the progress protocol (see :mod:`lightfade_addon.progress`)."""
 
 import contextlib
 
 import bpy
 
+from ..progress import ProgressBar
+
+#: Steps of Blender's progress indicator for a whole job.
+_STEPS = 1000
+
 
 @contextlib.contextmanager
 def window_progress(context, label="LightFade"):
-    """Yield ``progress(fraction, message)`` for the duration of a long job.
+    """Yield a ``progress(fraction, message)`` callable for the duration of a long job.
 
     In the UI it drives ``WindowManager.progress_begin/update/end`` (ended also on
     error); with ``blender -b`` or the ``bpy`` module it prints one line per message.
     """
+    if context.window is None or bpy.app.background:
+        with ProgressBar(f"{label}:", stream=None, tty=False) as bar:
+            yield bar
+        return
     wm = context.window_manager
-    ui = context.window is not None and not bpy.app.background
-    last = [None]
-
-    def progress(fraction, message=""):
-        if ui:
-            wm.progress_update(int(1000 * min(max(fraction, 0.0), 1.0)))
-        elif message and message != last[0]:
-            print(f"{label}: {100 * fraction:5.1f}% {message}", flush=True)
-            last[0] = message
-
-    if ui:
-        wm.progress_begin(0, 1000)
+    wm.progress_begin(0, _STEPS)
     try:
-        yield progress
+        yield lambda fraction, message="": wm.progress_update(
+            int(_STEPS * min(max(fraction, 0.0), 1.0)))
     finally:
-        if ui:
-            wm.progress_end()
+        wm.progress_end()

@@ -4,18 +4,17 @@
 ``blender -c lightfade age shot.blend --years 25`` runs.
 """
 
-from ..cli import command
+NAME = "scene"
+HELP = "bake, age, render or describe .blend files (needs the bpy module)"
 
 
-@command("scene", "bake, age, render or describe .blend files (needs the bpy module)")
-def build(parser):
+def add_arguments(parser):
     from ..pipeline import add_subcommands
 
     add_subcommands(parser)
-    parser.set_defaults(run=lambda args: _run(args, parser))
 
 
-def _run(args, parser):
-    from ..pipeline import run
+def run(args):
+    from ..pipeline import run as run_pipeline
 
-    return run(args, parser)
+    return run_pipeline(args)

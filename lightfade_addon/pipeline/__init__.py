@@ -21,9 +21,12 @@ from .parser import add_subcommands, check, make_parser
 __all__ = ["add_subcommands", "main", "run"]
 
 
-def run(args, parser):
-    """Run parsed arguments (after the usage checks); returns the exit status."""
-    check(args, parser)
+def run(args):
+    """Run parsed arguments; returns the exit status (0 done, 1 refused, 2 usage)."""
+    problem = check(args)
+    if problem is not None:
+        print(f"lightfade: error: {problem}", file=sys.stderr)
+        return 2
     try:
         from . import batch
     except ImportError as err:
@@ -39,6 +42,6 @@ def main(argv, prog="blender -c lightfade"):
     parser = make_parser(prog)
     try:
         args = parser.parse_args(argv)
-        return run(args, parser)
-    except SystemExit as exc:  # --help, usage errors
-        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
+    except SystemExit as exc:  # --help (0) or a usage error (2)
+        return exc.code if isinstance(exc.code, int) else 2
+    return run(args)

@@ -16,7 +16,7 @@ import traceback
 
 import bpy
 
-from . import steps
+from .steps import ACTIONS, check_overrides, dump_json
 from .files import Refused
 
 #: The add-on package these modules belong to (``lightfade_addon`` or ``bl_ext.<repo>.lightfade``).
@@ -87,7 +87,7 @@ def summary(action, rows):
 
 
 def _run_files(args):
-    action = steps.ACTIONS[args.action]
+    action = ACTIONS[args.action]
     rows = [_one(action, path, args, k, len(args.files)) for k, path in enumerate(args.files, 1)]
     print(summary(args.action, rows), flush=True)
     return rows
@@ -99,7 +99,7 @@ def _run_checked(args):
     except Refused as err:
         print(f"lightfade: {err}", file=sys.stderr)
         return 1, []
-    problem = steps.check_overrides(args, bpy.context.scene)
+    problem = check_overrides(args, bpy.context.scene)
     if problem is not None:
         print(f"lightfade: error: {problem}", file=sys.stderr)
         return 2, []
@@ -122,6 +122,6 @@ def run(args):
         reports = iter(args.json_reports)
         docs = [next(reports) if r["status"] == "done"
                 else {"file": os.path.abspath(r["file"]), "error": r["result"]} for r in rows]
-        sys.stdout.write(steps.dump_json(docs) + "\n")
+        sys.stdout.write(dump_json(docs) + "\n")
         sys.stdout.flush()
     return status

@@ -8,48 +8,21 @@ call.  Nothing here changes the file.
 
 from __future__ import annotations
 
-from ..blender import aging, stats
+import bpy
+
+from .. import api
+from ..blender import stats
+from ..blender.apply import aged_copies
 from ..blender.bake import find_emitters
 from ..blender.properties import resolve_spectrum
+from ..blender.targets import targets
 
 # ------------------------------------------------------------------------------ queries
 
 
 def target_objects(scene):
     """Meshes that aging would touch (those using a material with LightFade enabled)."""
-    objects = []
-    for obj, _material in aging.targets(scene, ()):
-        if obj not in objects:
-            objects.append(obj)
-    return objects
-
-
-def material_path(material):
-    """``(path, detail)``: how aging would read a material's albedo.
-
-    ``path`` is ``"image"`` (an Image Texture feeds Base Color), ``"flat"`` (a flat
-    Base Color, turned into a texture) or ``"refused"`` (``detail`` says why).
-    """
-    try:
-        _bsdf, node, _link = aging.albedo_source(material)
-        if node is None:
-            return "flat", "flat Base Color, turned into a texture"
-        aging._check_image(material, node.image)
-    except aging.AgingError as err:
-        return "refused", str(err)
-    w, h = node.image.size
-    return "image", f"image '{node.image.name}' ({w}x{h})"
-
-
-def pair_problem(scene, obj, material):
-    """Why :func:`..blender.aging.age_scene` would skip this pair, or None."""
-    if obj.library is not None or obj.data.library is not None:
-        return f"Object '{obj.name}' is linked from a library: make it local first"
-    users = aging.users_of(material, scene)
-    if len(users) > 1:
-        return (f"Material '{material.name}' is used by {len(users)} objects: each needs its "
-                "own copy (Object > Relations > Make Single User > Materials)")
-    return None
+    return list(dict.fromkeys(obj for obj, _material in targets(scene)))
 
 
 def _emitters_of(scene, obj):
@@ -63,24 +36,28 @@ def missing_maps(scene, obj):
     return [e.name for e in _emitters_of(scene, obj) if e.name not in have]
 
 
+def _recipe(material):
+    props = material.lightfade
+    sensitivity = (f"beta {props.beta:g}e-6" if props.sensitivity_mode == "BETA"
+                   else f"Blue Wool {props.blue_wool}")
+    return props.recipe.lower().replace("_", "-"), sensitivity
+
+
 # ----------------------------------------------------------------------------- sections
 
 
 def would_age(scene):
-    """One entry per (object, material) pair aging would take, with its path."""
+    """One entry per (object, material) pair Age would take: its albedo path
+    (``direct``, ``baked`` or ``flat``), why, what stops it, and its aged status
+    (:func:`..api.material_plan`)."""
     entries = []
-    for obj, material in aging.targets(scene, ()):
-        path, detail = material_path(material)
-        problem = pair_problem(scene, obj, material)
-        if problem is not None:
-            path, detail = "refused", problem
-        props = material.lightfade
-        sensitivity = (f"beta {props.beta:g}e-6" if props.sensitivity_mode == "BETA"
-                       else f"Blue Wool {props.blue_wool}")
+    for row in api.material_plan(scene):
+        recipe, sensitivity = _recipe(bpy.data.materials[row["material"]])
         entries.append({
-            "object": obj.name, "material": material.name, "path": path, "detail": detail,
-            "recipe": props.recipe.lower().replace("_", "-"), "sensitivity": sensitivity,
-            "aged": props.aged_image is not None,
+            "object": row["object"], "material": row["material"],
+            "path": row["path"].lower(), "reason": row["reason"],
+            "problems": list(row["problems"]), "status": row["status"],
+            "recipe": recipe, "sensitivity": sensitivity,
         })
     return entries
 
@@ -117,7 +94,8 @@ def doses(scene):
 
 
 def stale(scene):
-    """What no longer matches the scene: missing maps, maps of gone emitters, orphan aging."""
+    """What no longer matches the scene: missing maps, maps of gone emitters, aged
+    materials whose exposure, schedule or recipe changed since Age."""
     lines = []
     for obj in target_objects(scene):
         maps = obj.lightfade.exposure_maps
@@ -135,14 +113,14 @@ def stale(scene):
             elif m.name not in current:
                 lines.append(f"Object '{obj.name}': the map for '{m.name}' belongs to an "
                              "emitter that is gone or excluded from aging (ignored)")
-    for material in aging.aged_materials(scene):
-        owner = material.lightfade.aged_object
-        if scene.objects.get(owner) is None:
-            lines.append(f"Material '{material.name}' was aged on object '{owner}', which is "
-                         "gone (Reset it)")
-        elif not material.lightfade.enabled:
-            lines.append(f"Material '{material.name}' is aged but no longer has LightFade "
-                         "enabled (Reset it)")
+    for copy in aged_copies(scene):
+        props = copy.lightfade
+        if not props.source.lightfade.enabled:
+            lines.append(f"Material '{props.source.name}' on '{props.aged_object.name}' is "
+                         "aged but no longer has LightFade enabled (Reset it)")
+    for e in would_age(scene):
+        if e["status"].startswith("stale"):
+            lines.append(f"Material '{e['material']}' on '{e['object']}' is {e['status']}")
     return lines
 
 
@@ -173,9 +151,9 @@ def as_text(report):
            f"camera {report['camera'] or '(none)'}"]
     out.append("  would age:" if report["would_age"] else "  would age: nothing")
     for e in report["would_age"]:
-        state = ", aged" if e["aged"] else ""
         out.append(f"    {e['object']} / {e['material']}: {e['path']} ({e['recipe']}, "
-                   f"{e['sensitivity']}{state}) - {e['detail']}")
+                   f"{e['sensitivity']}; {e['status']}) - {e['reason']}")
+        out.extend(f"      problem: {p}" for p in e["problems"])
     out.append("  emitters:" if report["emitters"] else "  emitters: none")
     for e in report["emitters"]:
         uv = ", UV filter" if e["uv_filter"] else ""

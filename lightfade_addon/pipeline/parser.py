@@ -11,15 +11,16 @@ from __future__ import annotations
 import argparse
 import math
 
-#: Bake overrides: (flag, ``Scene.lightfade`` property, type, metavar, help).  Each flag
-#: sets that property of the opened file before a bake (and is kept in the saved file).
-#: New bake settings (texel density, quality presets) are one row each.
+#: Bake overrides: (flag, property path on the scene, type, metavar, help).  Each flag
+#: sets that setting of the opened file before a bake (and is kept in the saved file).
+#: A new bake setting is one row, e.g. ``("--quality", "lightfade_bake.quality", str,
+#: "NAME", ...)`` or ``("--density", "lightfade_bake.texels_per_metre", float, ...)``.
 BAKE_FLAGS = (
-    ("--resolution", "bake_resolution", int, "PX",
+    ("--resolution", "lightfade.bake_resolution", int, "PX",
      "exposure map width and height in pixels (default: the file's setting)"),
-    ("--samples", "bake_samples", int, "N",
+    ("--samples", "lightfade.bake_samples", int, "N",
      "Cycles samples per texel for the exposure bake (default: the file's setting)"),
-    ("--margin", "bake_margin", int, "PX",
+    ("--margin", "lightfade.bake_margin", int, "PX",
      "bake margin past UV island borders, pixels (default: the file's setting)"),
 )
 
@@ -117,11 +118,12 @@ def make_parser(prog):
     return parser
 
 
-def check(args, parser):
-    """Usage checks argparse cannot express; ``parser.error`` exits with status 2."""
+def check(args):
+    """Usage problems argparse cannot express, as a message (None if none)."""
     output = getattr(args, "output", None)
     if getattr(args, "in_place", False) and output:
-        parser.error("--in-place and --output exclude each other")
+        return "--in-place and --output exclude each other"
     if (args.action in ("bake", "age") and output and len(args.files) > 1
             and output.lower().endswith(".blend")):
-        parser.error(f"--output {output}: several input files need a folder, not a .blend path")
+        return f"--output {output}: several input files need a folder, not a .blend path"
+    return None

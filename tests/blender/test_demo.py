@@ -86,8 +86,10 @@ def test_saved_blend_keeps_the_aged_pixels(quick_room):
     for im in aged:
         assert im.packed_file is not None, im.name
         assert tuple(im.size) != (0, 0), im.name
-    mat = bpy.data.materials["Rug_Wool"]
-    assert mat.lightfade.aged_image is not None
+    rug = bpy.data.materials["Rug_Wool"]
+    copies = [m for m in bpy.data.materials if m.lightfade.source == rug]
+    assert len(copies) == 1 and copies[0].lightfade.aged_image is not None
+    assert copies[0].lightfade.aged_image.packed_file is not None
     assert bpy.context.scene.lightfade.years == pytest.approx(25.0)
 
 

@@ -124,7 +124,7 @@ class TestDefaults:
         from lightfade_addon.core.recipes import RECIPES
 
         m = bpy.data.materials.new("M").lightfade
-        assert (m.enabled, m.recipe, m.sensitivity_mode, m.blue_wool, m.albedo_image) == (
+        assert (m.enabled, m.recipe, m.sensitivity_mode, m.blue_wool, m.source) == (
             False, "PRINTED_PAPER", "BLUE_WOOL", 2, None)     # the print's magenta: class 2
         assert set(RECIPE_IDS.values()) == {"printed-paper", "dyed-fabric", "painted-wood", "bare-wood"}
         m.recipe = "DYED_FABRIC"
