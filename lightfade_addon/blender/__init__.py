@@ -6,7 +6,7 @@ groups and handlers; :func:`unregister` undoes them in reverse.  Neither touches
 
 import bpy
 
-from . import handlers, panels, properties
+from . import cache, cli_command, handlers, panels, properties
 from .bake import records as bake_records
 from .operators import CLASSES as _OPERATOR_CLASSES
 
@@ -25,10 +25,14 @@ def register():
     properties.register_pointers()
     bake_records.register_pointers()
     handlers.register()
+    cache.register()
+    cli_command.register()
 
 
 def unregister():
     """Exactly undo :func:`register`, in reverse order."""
+    cli_command.unregister()
+    cache.unregister()
     handlers.unregister()
     bake_records.unregister_pointers()
     properties.unregister_pointers()

@@ -117,6 +117,8 @@ class TestBakeExposure:
 
     def test_world_and_emissive_mesh_are_emitters(self, floor_scene, lf):
         world = bpy.data.worlds.new("Sky")
+        if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+            world.use_nodes = True
         world.lightfade.spectrum = "DAYLIGHT"  # a world counts once it has a spectrum
         world.lightfade.hours_per_day = 10.0
         world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.5
@@ -126,6 +128,8 @@ class TestBakeExposure:
         panel = bpy.context.active_object
         panel.name = "Panel"
         mat = bpy.data.materials.new("Glow")
+        if bpy.app.version < (5, 0, 0):  # Blender 4.x, as above
+            mat.use_nodes = True
         bsdf = mat.node_tree.nodes["Principled BSDF"]
         bsdf.inputs["Emission Color"].default_value = (1, 1, 1, 1)
         bsdf.inputs["Emission Strength"].default_value = 5.0
@@ -148,7 +152,8 @@ class TestBakeExposure:
     def test_state_restored_and_albedo_untouched(self, floor_scene, lf):
         albedo = floor_scene["albedo"]
         original = lf.pixels(albedo).copy()
-        bpy.context.scene.render.engine = "BLENDER_EEVEE"
+        # EEVEE is "BLENDER_EEVEE_NEXT" in Blender 4.2-4.5.
+        bpy.context.scene.render.engine = "BLENDER_EEVEE" if bpy.app.version >= (5, 0, 0) else "BLENDER_EEVEE_NEXT"
         floor_scene["box"].select_set(True)
         before = snapshot()
         result = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from ..properties import resolve_spectrum
+from ..vocabulary import resolve_spectrum
 from .common import WORLD_EMITTER
 
 

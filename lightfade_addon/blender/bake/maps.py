@@ -12,7 +12,7 @@ import bpy
 import numpy as np
 
 from ...core.aging import Light
-from ..properties import resolve_spectrum
+from ..vocabulary import resolve_spectrum
 from .common import EXPOSURE_PREFIX, LightFadeBakeError, exposure_image_name
 from .emitters import schedule_key, schedule_of
 from .uvmaps import remove_made_uv

@@ -23,23 +23,13 @@ from bpy.props import (
 )
 from bpy.types import PropertyGroup
 
+from ..vocabulary import EMITTER_KIND_ITEMS
 from .presets import PRESETS
-
-EMITTER_KIND_ITEMS = (
-    ("SUN", "Sun", "A sun lamp"),
-    ("POINT", "Point", "A point lamp"),
-    ("SPOT", "Spot", "A spot lamp"),
-    ("AREA", "Area", "An area lamp"),
-    ("WORLD", "World", "The world background (sky light)"),
-    ("EMISSIVE", "Emissive Mesh", "A mesh with an emissive material"),
-)
-
 
 class LIGHTFADE_PG_emitter_ref(PropertyGroup):
     """One emitter of a light group (``name`` is the light object, "World" or the mesh)."""
 
     kind: EnumProperty(name="Kind", items=EMITTER_KIND_ITEMS, default="SUN")
-
 
 class LIGHTFADE_PG_exposure_map(PropertyGroup):
     """One baked exposure map: the illuminance (lux) one light group gives each texel.
@@ -70,7 +60,6 @@ class LIGHTFADE_PG_exposure_map(PropertyGroup):
         "baked irradiance) while the group is on",
     )
 
-
 class LIGHTFADE_PG_object(PropertyGroup):
     """Exposure maps baked for a mesh object."""
 
@@ -95,11 +84,9 @@ class LIGHTFADE_PG_object(PropertyGroup):
         default=False,
     )
 
-
 QUALITY_ITEMS = tuple(
     (key, preset.label, preset.description) for key, preset in PRESETS.items()
 ) + (("CUSTOM", "Custom", "The samples and denoising set below"),)
-
 
 class LIGHTFADE_PG_bake_settings(PropertyGroup):
     """How exposure is baked: quality preset, texel density, denoising."""
@@ -130,7 +117,6 @@ class LIGHTFADE_PG_bake_settings(PropertyGroup):
         soft_max=2048.0,
     )
 
-
 CLASSES = (
     LIGHTFADE_PG_emitter_ref,
     LIGHTFADE_PG_exposure_map,
@@ -144,12 +130,10 @@ POINTERS = (
     (bpy.types.Scene, "lightfade_bake", LIGHTFADE_PG_bake_settings),
 )
 
-
 def register_pointers():
     for id_type, attr, group in POINTERS:
         setattr(id_type, attr, PointerProperty(type=group, name="LightFade",
                                                description="LightFade settings"))
-
 
 def unregister_pointers():
     for id_type, attr, _group in reversed(POINTERS):
