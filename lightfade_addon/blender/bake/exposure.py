@@ -66,12 +66,17 @@ class BakeSettings:
 
     @classmethod
     def from_scene(cls, scene, unwrap=False):
-        """The scene's settings: quality preset, density, max size (``bake_resolution``)."""
+        """The scene's settings: quality preset, density, max size (``bake_resolution``).
+
+        Samples come from the preset unless ``Scene.lightfade.bake_samples`` was set (the
+        Custom quality, a script, ``api.bake(samples=...)``); choosing a preset unsets it.
+        """
         props, bake = scene.lightfade, scene.lightfade_bake
         preset = PRESETS.get(bake.quality)
+        custom = preset is None or props.is_property_set("bake_samples")
         return cls(
             resolution=None,
-            samples=preset.samples if preset else props.bake_samples,
+            samples=props.bake_samples if custom else preset.samples,
             margin=props.bake_margin,
             unwrap=unwrap,
             denoise=preset.denoise if preset else bake.denoise,
