@@ -12,6 +12,7 @@ add-on must be enabled (its properties are registered by ``register()``)::
     api.bake(scene, resolution=512, samples=32)       # exposure maps (Cycles)
     api.age_scene(scene, years=10)                    # aged textures at 10 years
     api.set_years(scene, 25)                          # scrub without re-preparing
+    api.material_plan(scene)                          # which path each material takes, why
     api.reset(scene)                                  # back to the original file
 
 From a checkout, ``import lightfade_addon.api`` after enabling ``lightfade_addon``.
@@ -19,7 +20,8 @@ From a checkout, ``import lightfade_addon.api`` after enabling ``lightfade_addon
 
 from __future__ import annotations
 
-__all__ = ["bake", "age_scene", "set_years", "keyframe_years", "reset", "AgingError"]
+__all__ = ["bake", "age_scene", "set_years", "keyframe_years", "reset", "material_plan",
+           "AgingError"]
 
 
 def _bpy():
@@ -55,10 +57,10 @@ def bake(scene=None, objects=None, resolution=None, samples=None, margin=None, u
 def age_scene(scene=None, years=None, objects=(), progress=None):
     """Age the enabled materials (of ``objects``, or all) and show ``years``.
 
-    Returns the aged images. Raises :class:`AgingError` with a message naming what
-    to fix when nothing can be aged.
+    Returns the aged images (one per object and material). Raises :class:`AgingError`
+    naming every problem found, before anything changes, when something cannot be aged.
     """
-    from .blender.aging import age_scene as _age
+    from .blender.prepare import age_scene as _age
 
     scene = _scene(scene)
     years = scene.lightfade.years if years is None else years
@@ -66,33 +68,56 @@ def age_scene(scene=None, years=None, objects=(), progress=None):
 
 
 def set_years(scene=None, years=0.0):
-    """Show ``years`` on the aged materials (fast: only the dose-dependent part runs)."""
-    from .blender.aging import update_scene
+    """Show ``years`` on the aged materials (fast: only the dose lookup runs).
+
+    Stale materials (new bake, changed recipe or schedule) are brought up to date.
+    Raises :class:`AgingError` for years that are not a finite number >= 0, before
+    anything changes. Returns the seconds taken.
+    """
+    from .blender.apply import update_scene
+    from .blender.errors import check_years
 
     scene = _scene(scene)
-    scene.lightfade.years = float(years)
-    return update_scene(scene, float(years))
+    years = check_years(years)
+    scene.lightfade.years = years
+    return update_scene(scene, years)
 
 
 def keyframe_years(scene=None, keys=()):
     """Keyframe the years slider: ``keys`` is a sequence of (frame, years) pairs."""
+    from .blender.errors import check_years
+
     scene = _scene(scene)
+    keys = [(int(frame), check_years(years)) for frame, years in keys]
     for frame, years in keys:
-        scene.lightfade.years = float(years)
-        scene.lightfade.keyframe_insert("years", frame=int(frame))
+        scene.lightfade.years = years
+        scene.lightfade.keyframe_insert("years", frame=frame)
 
 
 def reset(scene=None, exposure=False):
-    """Undo aging (and with ``exposure=True`` remove the exposure maps and stored grids)."""
-    bpy = _bpy()
+    """Undo aging (and with ``exposure=True`` remove the exposure maps); returns how many
+    aged materials were reset."""
+    from .blender.reset import reset_scene
+
+    return reset_scene(_scene(scene), exposure=exposure)
+
+
+def material_plan(scene=None, objects=()):
+    """What Age would do, per (object, material): a list of dicts.
+
+    Keys: ``object``, ``material``, ``path`` (``"DIRECT"``, ``"BAKED"`` or ``"FLAT"``),
+    ``reason``, ``problems`` (lines saying what to fix) and ``status`` of an existing
+    aged copy (``"not aged"``, ``"aged"``, ``"stale: ..."``). Runs no Cycles work.
+    """
+    from .blender.status import material_status
+
     scene = _scene(scene)
-    with bpy.context.temp_override(scene=scene):
-        return bpy.ops.lightfade.reset(exposure=exposure)
+    return material_status(scene, list(objects))
 
 
 def __getattr__(name):
     if name == "AgingError":
-        from .blender.aging import AgingError
+        from .blender.errors import AgingError
 
         return AgingError
     raise AttributeError(name)

@@ -1,60 +1,49 @@
 """The ``lightfade`` command line: ``python -m lightfade_addon <command> ...``.
 
-Commands are small functions registered in :data:`COMMANDS`; each gets the parsed
-arguments and returns an exit status. Errors a user can fix are printed as one
+The parser is built from the command modules of :mod:`.commands` (one module per
+command, see there); each gets the parsed arguments and returns an exit status.
+Errors a user can fix, in the command line or in the input files, are printed as one
 line on stderr with exit status 2, never as a traceback.
 """
 
 from __future__ import annotations
 
-import argparse
 import sys
 
 from . import __version__
-
-COMMANDS = {}
-
-
-def command(name, help):
-    """Register ``fn(parser)`` as the argument builder of command ``name``."""
-
-    def wrap(build):
-        COMMANDS[name] = (help, build)
-        return build
-
-    return wrap
+from .commands import ArgumentParser, UserError, discover
 
 
-class UserError(Exception):
-    """A problem with the user's input: reported as one line, exit status 2."""
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors: ``lightfade: error: ...`` and exit status 2."""
-
-    def error(self, message):
-        self.exit(2, f"lightfade: error: {message} (see: {self.prog} --help)\n")
-
-
-def make_parser():
-    parser = _Parser(
-        prog="python -m lightfade_addon",
+def make_parser(prog=None):
+    """The argument parser of every command; ``prog`` defaults to argparse's choice."""
+    parser = ArgumentParser(
+        prog=prog,
         description="LightFade: physically based light fading and yellowing (layered "
                     "Kubelka-Munk model).")
     parser.add_argument("--version", action="version", version=f"lightfade {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    for name, (help_text, build) in COMMANDS.items():
-        p = sub.add_parser(name, help=help_text, description=help_text)
-        build(p)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=ArgumentParser)
+    for module in discover():
+        p = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
+        module.add_arguments(p)
+        p.set_defaults(run=module.run)
     return parser
 
 
-def main(argv=None):
-    """Entry point; returns the exit status."""
-    from . import commands  # noqa: F401  (registers the commands)
+def main(argv=None, prog=None):
+    """Entry point; returns the exit status (0, 2 for usage or input errors, 130).
 
-    parser = make_parser()
-    args = parser.parse_args(argv)
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name (default: ``sys.argv[1:]``).
+    prog : str, optional
+        The program name shown in usage lines.
+    """
+    parser = make_parser(prog)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:           # --help, --version, or a usage error (status 2)
+        return exc.code if isinstance(exc.code, int) else 2
     if args.command is None:
         parser.print_help()
         return 0

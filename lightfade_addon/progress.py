@@ -1,18 +1,26 @@
-"""A small terminal progress bar for long command-line steps.
+"""One progress protocol for the core, the command line, Blender and the Python API.
 
-An instance is a ``progress(fraction, message)`` callable, the signature the core's
-long-running functions accept (:class:`.core.aging.TextureAger`,
-:func:`.core.aging.age_image_exact`, :func:`.core.grid.load_or_build`)::
+Every long-running function takes an optional ``progress`` argument: a callable
+``progress(fraction, message)`` with ``fraction`` in [0, 1] of the whole job done and
+``message`` a short text saying what is being done. It returns nothing and must be
+cheap. Who shows it is an adapter:
 
-    with ProgressBar("fading") as bar:
+* :class:`ProgressBar` — the command line: a redrawn bar on a terminal, one plain line
+  per new message anywhere else (a pipe, a log, ``blender -b``);
+* ``lightfade_addon.blender.progress.WindowProgress`` (and ``window_progress``, its
+  context manager) — Blender's window progress indicator and status bar, or a
+  :class:`ProgressBar` line per step in background mode;
+* the Python API passes the caller's own callable straight through (or :func:`silent`).
+
+Helpers compose them: :func:`scaled` maps a sub-job onto part of the range, so that a
+function with two stages can hand ``scaled(progress, 0.0, 0.6)`` to the first::
+
+    with ProgressBar("grid") as bar:
         ager = TextureAger(rgb, recipe, lights, progress=bar)
 
-On a terminal it redraws one line with ``\\r``::
+On a terminal the bar redraws one line with ``\\r``::
 
-    fading [##########..........]  50%  building the fading grid
-
-Anywhere else (a pipe, a log file, a test) it writes a plain line each time the
-message changes, so logs stay readable and free of control characters.
+    grid [###############...............]  50%  simulating printed-paper: light mix 1/2
 """
 
 from __future__ import annotations
@@ -20,7 +28,40 @@ from __future__ import annotations
 import sys
 import time
 
-__all__ = ["ProgressBar"]
+__all__ = ["ProgressBar", "silent", "scaled", "report"]
+
+
+def silent(fraction, message=""):
+    """The do-nothing progress callable (the default of every ``progress=None``)."""
+
+
+def report(progress):
+    """``progress`` itself, or :func:`silent` when it is None."""
+    return progress if progress is not None else silent
+
+
+def scaled(progress, start, stop):
+    """A progress callable reporting ``[0, 1]`` as ``[start, stop]`` of ``progress``.
+
+    Parameters
+    ----------
+    progress : callable(fraction, message) or None
+    start, stop : float
+        The part of the outer job the inner one covers, fractions in [0, 1].
+
+    Examples
+    --------
+    >>> seen = []
+    >>> scaled(lambda f, m: seen.append((f, m)), 0.5, 1.0)(0.5, "half of the second half")
+    >>> seen
+    [(0.75, 'half of the second half')]
+    """
+    outer = report(progress)
+
+    def inner(fraction, message=""):
+        outer(start + (stop - start) * fraction, message)
+
+    return inner
 
 
 class ProgressBar:
@@ -65,9 +106,10 @@ class ProgressBar:
     def __call__(self, fraction, message=""):
         """Report ``fraction`` in [0, 1] done, with what is being done."""
         try:
-            fraction = min(max(float(fraction), 0.0), 1.0)
+            fraction = float(fraction)
         except (TypeError, ValueError):
             fraction = 0.0
+        fraction = min(max(fraction, 0.0), 1.0) if fraction == fraction else 0.0   # NaN: 0
         prefix = f"{self.label} " if self.label else ""
         if self.tty:
             filled = int(round(fraction * self.width))

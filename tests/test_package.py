@@ -1,4 +1,4 @@
-"""The package's layering: core never touches Blender; imports work without bpy."""
+"""The package's layering: core never touches Blender, imports run one way, the CLI works."""
 
 import ast
 import pathlib
@@ -6,12 +6,75 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "lightfade_addon"
 BLENDER_MODULES = {"bpy", "mathutils", "bmesh", "gpu", "bl_math", "idprop"}
+#: Subpackages left out of the import-circle check while they are being reshaped
+#: (issue 13: blender.properties -> handlers -> aging -> properties). Empty it once
+#: the Blender shell's imports run one way.
+NOT_YET_CHECKED = ("lightfade_addon.blender",)
+
+
+def _module_name(path, root):
+    parts = list(path.relative_to(root).with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def import_graph(package=PACKAGE):
+    """``{module: {modules it imports}}`` over the package's relative imports.
+
+    Imports inside functions count: a circle through a deferred import is still a
+    circle of dependencies, only hidden from the interpreter.
+    """
+    paths = {_module_name(p, package.parent): p for p in package.rglob("*.py")}
+    graph = {}
+    for name, path in paths.items():
+        here = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        deps = set()
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if isinstance(node, ast.ImportFrom) and node.level:
+                base = ".".join(here[:len(here) - node.level + 1]
+                                + ([node.module] if node.module else []))
+                for target in [base] + [f"{base}.{a.name}" for a in node.names]:
+                    if target in paths and target != name:
+                        deps.add(target)
+        graph[name] = deps
+    return graph
+
+
+def circles(graph):
+    """The strongly connected components of more than one module (Tarjan)."""
+    index, low, stack, on_stack, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for v in graph:
+        if v not in index:
+            visit(v)
+    return found
 
 
 def test_core_never_imports_blender_modules():
     offenders = []
-    for path in (ROOT / "lightfade_addon" / "core").rglob("*.py"):
+    for path in (PACKAGE / "core").rglob("*.py"):
         for node in ast.walk(ast.parse(path.read_text(), str(path))):
             names = []
             if isinstance(node, ast.Import):
@@ -22,27 +85,70 @@ def test_core_never_imports_blender_modules():
     assert offenders == []
 
 
-def _python(code):
-    return subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+class TestImportCircles:
+    def test_the_checker_finds_a_circle(self, tmp_path):
+        pkg = tmp_path / "lightfade_addon"
+        (pkg / "sub").mkdir(parents=True)
+        (pkg / "__init__.py").write_text("")
+        (pkg / "a.py").write_text("def f():\n    from .sub import b\n")
+        (pkg / "sub" / "__init__.py").write_text("")
+        (pkg / "sub" / "b.py").write_text("from ..a import f\n")
+        (pkg / "c.py").write_text("from . import a\n")
+        assert circles(import_graph(pkg)) == [["lightfade_addon.a", "lightfade_addon.sub.b"]]
+
+    def test_none_in_the_package(self):
+        graph = {m: {d for d in deps if not d.startswith(NOT_YET_CHECKED)}
+                 for m, deps in import_graph().items() if not m.startswith(NOT_YET_CHECKED)}
+        assert circles(graph) == []
+
+    def test_commands_never_import_the_cli(self):
+        graph = import_graph()
+        assert "lightfade_addon.commands" in graph["lightfade_addon.cli"]
+        assert not any("lightfade_addon.cli" in deps for m, deps in graph.items()
+                       if m.startswith("lightfade_addon.commands"))
+
+
+def _python(*args):
+    return subprocess.run([sys.executable, *args], cwd=ROOT, capture_output=True,
                           text=True, timeout=120)
 
 
 def test_package_and_core_import_without_loading_bpy():
-    out = _python("import sys, lightfade_addon, lightfade_addon.core, lightfade_addon.cli;"
+    out = _python("-c", "import sys, lightfade_addon, lightfade_addon.core, lightfade_addon.cli;"
                   "print(sorted(m for m in sys.modules if m.split('.')[0] in "
                   "{'bpy', 'mathutils', 'bmesh'}))")
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == "[]"
 
 
-def test_command_line_runs_without_blender():
-    out = subprocess.run([sys.executable, "-m", "lightfade_addon", "info"], cwd=ROOT,
-                         capture_output=True, text=True, timeout=120)
-    assert out.returncode == 0, out.stderr
-    assert "simulate defaults" in out.stdout
+class TestCommandLine:
+    def test_runs_without_blender(self):
+        out = _python("-m", "lightfade_addon", "info")
+        assert out.returncode == 0, out.stderr
+        assert "simulate defaults: layers=" in out.stdout
+        assert "OpenImageIO 3." in out.stdout
 
+    def test_unknown_command_is_one_line_naming_it_and_the_valid_ones(self):
+        out = _python("-m", "lightfade_addon", "no-such-command")
+        assert (out.returncode, out.stdout) == (2, "")
+        [line] = out.stderr.splitlines()
+        assert line.startswith("lightfade: error: ") and "'no-such-command'" in line
+        assert "age-image" in line and "info" in line
+        prog = f"{pathlib.Path(sys.executable).name} -m lightfade_addon"
+        assert f"(see: {prog} --help)" in line
 
-def test_unknown_command_is_an_error():
-    out = subprocess.run([sys.executable, "-m", "lightfade_addon", "no-such-command"],
-                         cwd=ROOT, capture_output=True, text=True, timeout=120)
-    assert out.returncode != 0
+    def test_every_command_module_is_listed(self):
+        from lightfade_addon import cli
+        from lightfade_addon.commands import discover
+
+        modules = discover()
+        names = [m.NAME for m in modules]
+        assert {"age-image", "info"} <= set(names) and names == sorted(names)
+        choices = cli.make_parser()._subparsers._group_actions[0].choices
+        assert list(choices) == names
+
+    def test_help_without_a_command(self, capsys):
+        from lightfade_addon import cli
+
+        assert cli.main([]) == 0
+        assert "age-image" in capsys.readouterr().out

@@ -4,8 +4,9 @@
   when an F-curve or driver changes it, so keyframed years are applied here, from
   the evaluated value, before each frame is drawn or rendered.
 * ``load_post`` (persistent): prepared agers belong to the file they came from.
-* ``save_pre`` (persistent): the aged images are packed, so that a render node with
-  the extension and the .blend alone renders the same frames.
+* ``save_pre`` (persistent): the aged and baked-albedo images are packed, so that a
+  render node with the extension and the .blend alone renders the same frames.
+* the years slider: :func:`years_changed` joins :data:`.properties.YEARS_LISTENERS`.
 
 Handlers are added and removed exactly once each (:func:`register`/:func:`unregister`).
 """
@@ -13,7 +14,11 @@ Handlers are added and removed exactly once each (:func:`register`/:func:`unregi
 import bpy
 from bpy.app.handlers import persistent
 
-from . import aging
+from . import runtime
+from .albedo import ALBEDO_PREFIX
+from .apply import aged_copies, update_scene
+from .copies import AGED_PREFIX
+from .properties import YEARS_LISTENERS, valid_years
 
 #: Texels above which a slider change waits for the slider to rest (debounce).
 DEBOUNCE_TEXELS = 2048 * 2048
@@ -21,15 +26,19 @@ DEBOUNCE_SECONDS = 0.15
 _pending = set()
 
 
+def _interactive():
+    return not bpy.app.background
+
+
 def years_changed(scene):
-    """Called by the ``years`` property's update callback (the slider)."""
-    materials = aging.aged_materials(scene)
-    if not materials:
+    """The years slider moved: update now, or when it rests if the textures are big."""
+    copies = aged_copies(scene)
+    if not copies:
         return
-    big = sum(m.lightfade.aged_image.size[0] * m.lightfade.aged_image.size[1]
-              for m in materials if m.lightfade.aged_image is not None) > DEBOUNCE_TEXELS
-    if not big or bpy.app.background:
-        _update(scene)
+    texels = sum(c.lightfade.aged_image.size[0] * c.lightfade.aged_image.size[1]
+                 for c in copies if c.lightfade.aged_image is not None)
+    if texels <= DEBOUNCE_TEXELS or not _interactive():
+        update_scene(scene)
         return
     name = scene.name
     if name not in _pending:
@@ -41,26 +50,19 @@ def _deferred(scene_name):
     _pending.discard(scene_name)
     scene = bpy.data.scenes.get(scene_name)
     if scene is not None:
-        _update(scene)
+        update_scene(scene)
     return None
-
-
-def _update(scene):
-    try:
-        aging.update_scene(scene)
-    except aging.AgingError as err:
-        print(f"LightFade: {err}")
 
 
 @persistent
 def on_frame_change(scene, depsgraph=None):
-    if aging.aged_materials(scene):
-        _update(scene)
+    if valid_years(scene.lightfade.years) and aged_copies(scene):
+        update_scene(scene)
 
 
 @persistent
 def on_load(_dummy=None, _more=None):
-    aging.clear_runtime()
+    runtime.clear()
     _pending.clear()
 
 
@@ -69,7 +71,7 @@ def on_save(_dummy=None, _more=None):
     # Pack only what changed: packing an unchanged, already packed image again
     # drops its data in Blender 5.0 (seen with float images).
     for image in bpy.data.images:
-        if (image.name.startswith(aging.AGED_PREFIX) and image.has_data
+        if (image.name.startswith((AGED_PREFIX, ALBEDO_PREFIX)) and image.has_data
                 and (image.packed_file is None or image.is_dirty)):
             image.pack()
 
@@ -85,10 +87,14 @@ def register():
     for handler_list, fn in HANDLERS:
         if fn not in handler_list:
             handler_list.append(fn)
+    if years_changed not in YEARS_LISTENERS:
+        YEARS_LISTENERS.append(years_changed)
 
 
 def unregister():
+    while years_changed in YEARS_LISTENERS:
+        YEARS_LISTENERS.remove(years_changed)
     for handler_list, fn in reversed(HANDLERS):
         while fn in handler_list:
             handler_list.remove(fn)
-    aging.clear_runtime()
+    runtime.clear()

@@ -4,8 +4,13 @@ Material Properties."""
 import bpy
 
 from ..core.recipes import RECIPES, blue_wool_dose
-from .properties import RECIPE_IDS
+from .apply import aged_copies
+from .copies import original
+from .vocabulary import RECIPE_IDS
+from .source import material_plan
+from .bake.panel import draw_bake_panel
 from .stats import annual_dose, emitter_schedule, image_max
+from .status import copy_status
 
 
 class LightFadeSidebarMixin:
@@ -45,11 +50,21 @@ class VIEW3D_PT_lightfade_aging(LightFadeSidebarMixin, bpy.types.Panel):
         row = layout.row(align=True)
         row.operator("lightfade.age", icon="TIME")
         row.operator("lightfade.reset", icon="LOOP_BACK")
-        aged = [m for m in bpy.data.materials if m.lightfade.aged_image is not None]
-        if aged:
-            col = layout.column(align=True)
-            for m in aged[:8]:
-                col.label(text=f"{m.name}: {m.lightfade.aged_object}", icon="MATERIAL")
+        copies = aged_copies(context.scene)
+        col = layout.column(align=True)
+        for copy in copies[:8]:
+            props = copy.lightfade
+            status = copy_status(context.scene, copy)
+            col.label(text=f"{props.aged_object.name} · {props.source.name}: "
+                      f"{props.path.lower()}, {status}",
+                      icon="ERROR" if status.startswith("stale") else "MATERIAL")
+        if len(copies) > 8:
+            col.label(text=f"… and {len(copies) - 8} more")
+        if copies and any(c.lightfade.max_years < context.scene.lightfade.years for c in copies):
+            layout.label(text="Years past the prepared range are computed in memory "
+                         "(not stored)", icon="INFO")
+        layout.label(text="Collection and geometry-nodes instances are not aged per instance",
+                     icon="INFO")
 
 
 class VIEW3D_PT_lightfade_bake(LightFadeSidebarMixin, bpy.types.Panel):
@@ -58,12 +73,7 @@ class VIEW3D_PT_lightfade_bake(LightFadeSidebarMixin, bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
-        props = context.scene.lightfade
-        col = layout.column(align=True)
-        col.prop(props, "bake_resolution")
-        col.prop(props, "bake_samples")
-        col.prop(props, "bake_margin")
-        layout.operator("lightfade.bake_exposure", icon="RENDER_STILL")
+        draw_bake_panel(layout, context)
 
         obj = context.object
         if obj is None or obj.type != "MESH" or not obj.lightfade.exposure_maps:
@@ -145,12 +155,15 @@ class MATERIAL_PT_lightfade(bpy.types.Panel):
         return context.material is not None
 
     def draw_header(self, context):
-        self.layout.prop(context.material.lightfade, "enabled", text="")
+        self.layout.prop(original(context.material).lightfade, "enabled", text="")
 
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
-        props = context.material.lightfade
+        material = original(context.material)
+        props = material.lightfade
+        if material != context.material:
+            layout.label(text=f"Aged copy of '{material.name}' (its settings below)", icon="INFO")
         layout.active = props.enabled
         layout.prop(props, "recipe")
         recipe = RECIPES[RECIPE_IDS[props.recipe]]
@@ -162,10 +175,19 @@ class MATERIAL_PT_lightfade(bpy.types.Panel):
             layout.label(text=f"Just-noticeable fade after ~{dose:.3g} Mlx·h of UV-free light")
         else:
             layout.prop(props, "beta")
-        layout.prop(props, "albedo_image")
-        if props.aged_image is not None:
-            layout.label(text=f"Aged on '{props.aged_object}' into '{props.aged_image.name}'",
-                         icon="CHECKMARK")
+        obj = context.object
+        if obj is None or obj.type != "MESH":
+            return
+        box = layout.box()
+        copy = context.material if material != context.material else None
+        if copy is not None:
+            box.label(text=f"{obj.name}: {copy.lightfade.path.lower()} — {copy.lightfade.reason}")
+            box.label(text=copy_status(context.scene, copy))
+            return
+        plan = material_plan(context.scene, obj, material)
+        box.label(text=f"{obj.name}: {plan.path.lower()} — {plan.reason or 'not checked'}")
+        for problem in plan.problems:
+            box.label(text=problem, icon="ERROR")
 
 
 CLASSES = (

@@ -1,32 +1,57 @@
-"""Progress for long operators: the window's progress indicator, or lines in background mode."""
+"""The Blender adapter of the progress protocol (see :mod:`lightfade_addon.progress`)."""
 
 import contextlib
 
 import bpy
 
+from ..progress import ProgressBar
+
+#: Steps of Blender's progress indicator for a whole job.
+_STEPS = 1000
+
+
+class WindowProgress:
+    """A ``progress(fraction, message)`` callable on Blender's window.
+
+    In the UI it drives ``WindowManager.progress_begin/update/end`` and shows the message
+    in the status bar; with ``blender -b`` or the ``bpy`` module it prints one line per
+    message (a :class:`..progress.ProgressBar`). Call :meth:`end` when the job is over,
+    also on error or cancel (a modal operator does it in its finish and cancel paths;
+    :func:`window_progress` does it for a job that runs in one call).
+    """
+
+    def __init__(self, context, label="LightFade"):
+        self.label = label
+        self._ui = context.window is not None and not bpy.app.background
+        self._wm = context.window_manager
+        self._workspace = getattr(context, "workspace", None) if self._ui else None
+        self._bar = None if self._ui else ProgressBar(f"{label}:", tty=False)
+        if self._ui:
+            self._wm.progress_begin(0, _STEPS)
+
+    def __call__(self, fraction, message=""):
+        if self._bar is not None:
+            self._bar(fraction, message)
+            return
+        self._wm.progress_update(int(_STEPS * min(max(fraction, 0.0), 1.0)))
+        if self._workspace is not None and message:
+            self._workspace.status_text_set(f"{self.label}: {message}")
+
+    def end(self):
+        """Hide the indicator and clear the status bar (UI); end the lines (background)."""
+        if self._bar is not None:
+            self._bar.close()
+            return
+        self._wm.progress_end()
+        if self._workspace is not None:
+            self._workspace.status_text_set(None)
+
 
 @contextlib.contextmanager
 def window_progress(context, label="LightFade"):
-    """Yield ``progress(fraction, message)`` for the duration of a long job.
-
-    In the UI it drives ``WindowManager.progress_begin/update/end`` (ended also on
-    error); with ``blender -b`` or the ``bpy`` module it prints one line per message.
-    """
-    wm = context.window_manager
-    ui = context.window is not None and not bpy.app.background
-    last = [None]
-
-    def progress(fraction, message=""):
-        if ui:
-            wm.progress_update(int(1000 * min(max(fraction, 0.0), 1.0)))
-        elif message and message != last[0]:
-            print(f"{label}: {100 * fraction:5.1f}% {message}", flush=True)
-            last[0] = message
-
-    if ui:
-        wm.progress_begin(0, 1000)
+    """Yield a :class:`WindowProgress` for the duration of a long job; ended also on error."""
+    progress = WindowProgress(context, label)
     try:
         yield progress
     finally:
-        if ui:
-            wm.progress_end()
+        progress.end()

@@ -15,9 +15,9 @@ Where the data lives
     enabled (the default).
 ``Material.lightfade`` (:class:`LIGHTFADE_PG_material`)
     The aging recipe of a material.
-``Object.lightfade`` (:class:`LIGHTFADE_PG_object`)
-    The exposure maps baked for a mesh, one per emitter
-    (:class:`LIGHTFADE_PG_exposure_map`), and the UV map they were baked on.
+``Object.lightfade`` and ``Scene.lightfade_bake``
+    The exposure maps of a mesh and the bake settings: :mod:`.bake.records` (registered
+    with the bake package).
 
 Exposure maps hold illuminance in lux (see :mod:`.bake` for the calibration); the annual
 dose of a texel is ``lux * hours_per_day * days_per_year`` lux·h.
@@ -29,103 +29,23 @@ from bpy.props import (
     CollectionProperty,
     EnumProperty,
     FloatProperty,
+    FloatVectorProperty,
     IntProperty,
     PointerProperty,
     StringProperty,
 )
 from bpy.types import PropertyGroup
 
-from ..core import recipes as _recipes
 
-# --------------------------------------------------------------------------- spectra
-
-#: Spectrum enum identifier -> the id the core uses for that light spectrum.
-SPECTRUM_IDS = {
-    "DAYLIGHT": "daylight",
-    "DAYLIGHT_GLASS": "daylight-glass",
-    "INCANDESCENT": "incandescent",
-    "FLUORESCENT": "fluorescent",
-    "LED": "led",
-}
-
-#: What ``AUTO`` means for each emitter kind.  Sun, sky and emissive meshes stand for
-#: daylight entering a room through window glass (CIE ID65: UV below ~320 nm cut);
-#: point, spot and area lamps are taken as modern white LEDs (CIE LED-B).
-AUTO_SPECTRUM = {
-    "SUN": "DAYLIGHT_GLASS",
-    "WORLD": "DAYLIGHT_GLASS",
-    "EMISSIVE": "DAYLIGHT_GLASS",
-    "POINT": "LED",
-    "SPOT": "LED",
-    "AREA": "LED",
-}
-
-SPECTRUM_ITEMS = (
-    ("AUTO", "Auto", "From the emitter type: sun, sky and emissive meshes give daylight "
-     "through window glass; point, spot and area lamps give white LED light"),
-    ("DAYLIGHT", "Daylight", "CIE D65 daylight, with its full UV content (outdoors, open window)"),
-    ("DAYLIGHT_GLASS", "Daylight through Glass",
-     "CIE ID65: daylight behind ordinary window glass, UV below about 320 nm cut"),
-    ("INCANDESCENT", "Incandescent", "CIE illuminant A: tungsten filament lamp, 2856 K"),
-    ("FLUORESCENT", "Fluorescent", "CIE FL series fluorescent tube (emits some UV)"),
-    ("LED", "LED", "CIE LED-B white LED (practically no UV)"),
-)
-
-EMITTER_KIND_ITEMS = (
-    ("SUN", "Sun", "A sun lamp"),
-    ("POINT", "Point", "A point lamp"),
-    ("SPOT", "Spot", "A spot lamp"),
-    ("AREA", "Area", "An area lamp"),
-    ("WORLD", "World", "The world background (sky light)"),
-    ("EMISSIVE", "Emissive Mesh", "A mesh with an emissive material"),
-)
-
-
-def resolve_spectrum(schedule, kind):
-    """The core's spectrum id for ``schedule`` on an emitter of ``kind``.
-
-    Parameters
-    ----------
-    schedule : LIGHTFADE_PG_schedule
-        The light schedule (its ``spectrum`` may be ``'AUTO'``).
-    kind : str
-        One of the :data:`EMITTER_KIND_ITEMS` identifiers.
-
-    Returns
-    -------
-    str
-        ``"daylight"``, ``"daylight-glass"``, ``"incandescent"``, ``"fluorescent"``
-        or ``"led"``.
-    """
-    spectrum = schedule.spectrum
-    if spectrum == "AUTO":
-        spectrum = AUTO_SPECTRUM.get(kind, "DAYLIGHT_GLASS")
-    return SPECTRUM_IDS[spectrum]
-
-
-# --------------------------------------------------------------------------- recipes
-
-#: Recipe enum identifier -> the id the core knows it by.
-RECIPE_IDS = {
-    "PRINTED_PAPER": "printed-paper",
-    "DYED_FABRIC": "dyed-fabric",
-    "PAINTED_WOOD": "painted-wood",
-    "BARE_WOOD": "bare-wood",
-}
-
-#: Blue Wool class a recipe starts from (ISO 105-B; 1 = very fugitive, 8 = very stable):
-#: the class of its most light-sensitive colourant in the core's recipe.
-RECIPE_BLUE_WOOL = {
-    key: int(min(k for k in _recipes.RECIPES[core_id].blue_wool if k is not None))
-    for key, core_id in RECIPE_IDS.items()
-}
-
-RECIPE_ITEMS = (
-    ("PRINTED_PAPER", "Printed Paper",
-     "CMY inks on paper: photographs, posters, book covers (weak dyes fade first, paper yellows)"),
-    ("DYED_FABRIC", "Dyed Fabric", "Dyed textile: carpets, curtains, upholstery"),
-    ("PAINTED_WOOD", "Painted Wood", "Pigmented paint or stain over wood"),
-    ("BARE_WOOD", "Bare Wood", "Unfinished or clear-finished wood: lignin yellows then bleaches"),
+from .vocabulary import (  # noqa: F401  (re-exported: the names scripts know)
+    AUTO_SPECTRUM,
+    EMITTER_KIND_ITEMS,
+    RECIPE_BLUE_WOOL,
+    RECIPE_IDS,
+    RECIPE_ITEMS,
+    SPECTRUM_IDS,
+    SPECTRUM_ITEMS,
+    resolve_spectrum,
 )
 
 
@@ -174,6 +94,27 @@ class LIGHTFADE_PG_schedule(PropertyGroup):
     )
 
 
+PATH_ITEMS = (
+    ("DIRECT", "Direct", "An image straight into Base Color through the exposure UV map: "
+     "aged at the image's full resolution"),
+    ("BAKED", "Baked", "Any other Base Color graph, evaluated by Cycles into a float texture "
+     "in the exposure UV map at the exposure map's resolution"),
+    ("FLAT", "Flat", "A plain colour: a constant albedo at the exposure map's resolution"),
+)
+
+
+class LIGHTFADE_PG_slot_backup(PropertyGroup):
+    """One material slot of the aged object as it was before Age (restored by Reset)."""
+
+    index: IntProperty(name="Slot", description="Index of the material slot", min=0)
+    link: StringProperty(name="Link", description="The slot's link ('DATA' or 'OBJECT') before aging")
+    material: PointerProperty(
+        name="Object Material",
+        type=bpy.types.Material,
+        description="The slot's object-level material before aging (usually none)",
+    )
+
+
 class LIGHTFADE_PG_material(PropertyGroup):
     """How a material ages: recipe and light sensitivity."""
 
@@ -217,84 +158,97 @@ class LIGHTFADE_PG_material(PropertyGroup):
         soft_max=1000.0,
         precision=3,
     )
-    albedo_image: PointerProperty(
-        name="Albedo Image",
-        type=bpy.types.Image,
-        description="Texture holding the unaged colour; empty = the image feeding the Principled BSDF "
-        "Base Color",
+    # -- written by Age on the object's aged copy of a material (read by Reset, the
+    # -- handlers and the panels); the original material keeps none of this
+    source: PointerProperty(
+        name="Source Material",
+        type=bpy.types.Material,
+        description="The original material this aged copy was made from (set on aged copies only)",
     )
-    # -- state written by the Age operator (read by Reset and the handlers) --
+    aged_object: PointerProperty(
+        name="Aged Object",
+        type=bpy.types.Object,
+        description="The object whose light aged this copy",
+    )
+    slot_backups: CollectionProperty(
+        type=LIGHTFADE_PG_slot_backup,
+        name="Slot Backups",
+        description="The object's material slots as they were before aging (Reset puts them back)",
+    )
+    path: EnumProperty(
+        name="Albedo Path",
+        description="How the unaged colour was obtained",
+        items=PATH_ITEMS,
+        default="BAKED",
+    )
+    reason: StringProperty(
+        name="Reason",
+        description="Why this material took its albedo path",
+    )
+    albedo: PointerProperty(
+        name="Albedo",
+        type=bpy.types.Image,
+        description="The unaged colour: the original image (direct path) or LightFade's "
+        "Cycles-baked float image in the exposure UV map",
+    )
+    flat_colour: FloatVectorProperty(
+        name="Flat Colour",
+        description="Linear Base Color of a material with a plain colour",
+        size=3,
+        default=(0.8, 0.8, 0.8),
+    )
+    uv_map: StringProperty(
+        name="UV Map",
+        description="UV map the aged image is sampled with",
+    )
     aged_image: PointerProperty(
         name="Aged Image",
         type=bpy.types.Image,
         description="The image LightFade writes the aged colour into (the original is never changed)",
     )
-    aged_object: StringProperty(
-        name="Aged Object",
-        description="The object whose exposure maps aged this material",
+    signature: StringProperty(
+        name="Signature",
+        description="Digest of the exposure, schedules and recipe this copy was prepared from "
+        "(a different digest now means stale)",
     )
-    original_node: StringProperty(
-        name="Original Node",
-        description="Name of the Image Texture node that fed Base Color before aging",
+    max_years: FloatProperty(
+        name="Prepared Years",
+        description="Years the stored grid's dose axis covers (beyond: computed in memory, never stored)",
+        default=100.0,
     )
-    original_output: StringProperty(
-        name="Original Output",
-        description="Identifier of the output socket that fed Base Color before aging",
-    )
-    flat_albedo: BoolProperty(
-        name="Flat Albedo",
-        description="The material had a flat Base Color, which LightFade turned into a texture",
-        default=False,
+    grid_key: StringProperty(
+        name="Grid",
+        description="Key of the grid in the file's grid store this copy uses",
     )
 
 
-class LIGHTFADE_PG_exposure_map(PropertyGroup):
-    """One baked exposure map: the illuminance (lux) one emitter gives each texel."""
-
-    # ``name`` (inherited) is the emitter name too, so that ``maps["Sun"]`` works.
-    emitter: StringProperty(
-        name="Emitter",
-        description="Light object name, \"World\", or emissive object name this map was baked for",
-    )
-    emitter_kind: EnumProperty(
-        name="Emitter Kind",
-        description="Type of the emitter this map was baked for",
-        items=EMITTER_KIND_ITEMS,
-        default="SUN",
-    )
-    image: PointerProperty(
-        name="Exposure Image",
-        type=bpy.types.Image,
-        description="Float image (packed) holding illuminance in lux per texel while the emitter is on",
-    )
+#: Callables ``fn(scene)`` run when the years slider changes to a valid value.  The
+#: handlers module adds itself on register, so this module imports nothing of the shell.
+YEARS_LISTENERS = []
 
 
-class LIGHTFADE_PG_object(PropertyGroup):
-    """Exposure maps baked for a mesh object."""
+#: Blender stores an infinite float property as the largest float32: that is "inf" too.
+_FLOAT32_MAX = 3.0e38
 
-    exposure_maps: CollectionProperty(
-        type=LIGHTFADE_PG_exposure_map,
-        name="Exposure Maps",
-        description="One illuminance map per emitter (lamp, world, emissive mesh)",
-    )
-    active_map_index: IntProperty(
-        name="Active Exposure Map",
-        description="Index of the exposure map shown in the panel list",
-        default=0,
-        min=0,
-    )
-    uv_map: StringProperty(
-        name="UV Map",
-        description="UV map the exposure maps were baked on (the aged textures must use the same one)",
-    )
+
+def valid_years(years):
+    """True for a finite number >= 0 (a property set to infinity holds ~3.4e38)."""
+    return years == years and 0.0 <= years < _FLOAT32_MAX
 
 
 def _on_years_changed(self, context):
     # Dragging the slider: update the aged textures (keyframed values go through the
     # frame-change handler instead: update callbacks do not fire for F-curves).
-    from . import handlers
-
-    handlers.years_changed(self.id_data)
+    if not valid_years(self.years):
+        bad, self.years = self.years, self.last_valid_years      # refused, value kept
+        bad = float("inf") if bad >= _FLOAT32_MAX else bad
+        print(f"LightFade: years must be a finite number >= 0, got {bad!r}; "
+              f"kept {self.last_valid_years:g}")
+        return
+    if self.last_valid_years != self.years:
+        self.last_valid_years = self.years
+    for listener in YEARS_LISTENERS:
+        listener(self.id_data)
 
 
 class LIGHTFADE_PG_scene(PropertyGroup):
@@ -304,11 +258,23 @@ class LIGHTFADE_PG_scene(PropertyGroup):
         name="Years",
         description="Years of light exposure to show (animatable: keyframe it for a time-lapse)",
         default=0.0,
-        min=0.0,
+        soft_min=0.0,
         soft_max=100.0,
         precision=1,
         options={"ANIMATABLE"},
         update=_on_years_changed,
+    )
+    last_valid_years: FloatProperty(
+        name="Last Valid Years",
+        description="The years value shown before an invalid one was refused",
+        default=0.0,
+        options={"HIDDEN"},
+    )
+    lock_interface_before: IntProperty(
+        name="Lock Interface Before Aging",
+        description="Render > Lock Interface as it was before Age turned it on (-1: Age has not)",
+        default=-1,
+        options={"HIDDEN"},
     )
     bake_resolution: IntProperty(
         name="Resolution",
@@ -336,9 +302,8 @@ class LIGHTFADE_PG_scene(PropertyGroup):
 
 CLASSES = (
     LIGHTFADE_PG_schedule,
+    LIGHTFADE_PG_slot_backup,
     LIGHTFADE_PG_material,
-    LIGHTFADE_PG_exposure_map,
-    LIGHTFADE_PG_object,
     LIGHTFADE_PG_scene,
 )
 
@@ -349,7 +314,6 @@ POINTERS = (
     (bpy.types.World, "lightfade", LIGHTFADE_PG_schedule),
     (bpy.types.Object, "lightfade_emitter", LIGHTFADE_PG_schedule),
     (bpy.types.Material, "lightfade", LIGHTFADE_PG_material),
-    (bpy.types.Object, "lightfade", LIGHTFADE_PG_object),
 )
 
 

@@ -1,29 +1,26 @@
 """``info``: what this installation can do (versions, solver defaults)."""
 
-from ..cli import command
+NAME = "info"
+HELP = "print versions and the physics core's defaults"
 
 
-@command("info", "print versions and the physics core's defaults")
-def build(parser):
-    parser.set_defaults(run=run)
+def add_arguments(parser):
+    """No arguments."""
 
 
 def run(args):
-    import numpy
+    import inspect
+    from importlib.metadata import PackageNotFoundError, version
 
     from .. import __version__
     from ..core import fading
 
     print(f"lightfade {__version__}")
-    print(f"numpy {numpy.__version__}")
-    try:
-        import colour
-
-        print(f"colour-science {colour.__version__}")
-    except ImportError:
-        print("colour-science: not installed")
-    import inspect
-
+    for package in ("numpy", "colour-science", "scipy", "OpenImageIO"):
+        try:
+            print(f"{package} {version(package)}")
+        except PackageNotFoundError:
+            print(f"{package}: not installed")
     params = inspect.signature(fading.simulate).parameters
     defaults = ", ".join(f"{k}={params[k].default!r}" for k in ("layers", "steps", "scheme"))
     print(f"simulate defaults: {defaults}")

@@ -168,7 +168,7 @@ class TextureAger:
             for s0 in range(0, n, _BLOCK):
                 s1 = min(s0 + _BLOCK, n)
                 total = self.rate[s0:s1]
-                mix = np.where(total > 0, rates[:, s0:s1] / np.maximum(total, 1e-30), 0.0).T
+                mix = np.where(total > 0, rates[:, s0:s1] / np.maximum(total, 1e-30), np.float32(0.0)).T
                 mix[total <= 0, 0] = 1.0
                 nodes, weights = simplex_interpolation(mix, self.grid.q)
                 self._offsets[:, s0:s1] = key[s0:s1] + nodes.T * (T - 1)

@@ -17,6 +17,14 @@ def rgba(image):
     return a.reshape(image.size[1], image.size[0], 4)
 
 
+def aged_image(material):
+    """The aged image of ``material``'s only aged copy."""
+    from lightfade_addon.blender.copies import copies_of
+
+    (copy,) = copies_of(material)
+    return copy.lightfade.aged_image
+
+
 def lab_linear(rgb):
     return XYZ_to_Lab(linear_srgb_to_XYZ(np.asarray(rgb, float).reshape(-1, 3)))
 
@@ -39,14 +47,15 @@ def carpet(floor_scene):
 
 def footprint(obj):
     lux = rgba(obj.lightfade.exposure_maps["Sun"].image)[..., 0]
-    return lux < 0.05 * np.percentile(lux, 90), lux > 0.5 * np.percentile(lux, 90)
+    near = np.max([np.roll(lux, (i, j), (0, 1)) for i in range(-2, 3) for j in range(-2, 3)], 0)  # 2-texel rim: denoised edges
+    return near < 0.001 * np.percentile(lux, 90), lux > 0.5 * np.percentile(lux, 90)
 
 
 class TestAge:
     def test_shadow_keeps_its_colour_lit_texels_fade(self, carpet):
         assert bpy.ops.lightfade.age(years=5) == {"FINISHED"}
         mat = carpet["material"]
-        aged = rgba(mat.lightfade.aged_image)[..., :3]
+        aged = rgba(aged_image(mat))[..., :3]
         original = srgb_decode(carpet["original"][..., :3])
         dE = delta_E_2000(lab_linear(aged), lab_linear(original)).reshape(64, 64)
         dark, lit = footprint(carpet["floor"])
@@ -63,13 +72,13 @@ class TestAge:
 
     def test_zero_years_reproduces_the_original(self, carpet):
         bpy.ops.lightfade.age(years=0)
-        aged = rgba(carpet["material"].lightfade.aged_image)[..., :3]
+        aged = rgba(aged_image(carpet["material"]))[..., :3]
         original = srgb_decode(carpet["original"][..., :3])
         assert delta_E_2000(lab_linear(aged), lab_linear(original)).max() < 0.01
 
     def test_years_slider_updates_the_texture(self, carpet):
         bpy.ops.lightfade.age(years=1)
-        image = carpet["material"].lightfade.aged_image
+        image = aged_image(carpet["material"])
         one = rgba(image).copy()
         bpy.context.scene.lightfade.years = 20.0
         twenty = rgba(image)
@@ -78,7 +87,7 @@ class TestAge:
 
     def test_years_beyond_the_prepared_range_extend_the_grid(self, carpet):
         bpy.ops.lightfade.age(years=5)                 # prepared for up to 100 years
-        image = carpet["material"].lightfade.aged_image
+        image = aged_image(carpet["material"])
         five = rgba(image).copy()
         bpy.context.scene.lightfade.years = 150.0
         assert np.abs(rgba(image) - five).max() > 0.01
@@ -89,7 +98,7 @@ class TestAge:
         for frame, years in ((1, 0.0), (10, 30.0)):
             scene.lightfade.years = years
             scene.lightfade.keyframe_insert("years", frame=frame)
-        image = carpet["material"].lightfade.aged_image
+        image = aged_image(carpet["material"])
         scene.frame_set(1)
         first = rgba(image).copy()
         scene.frame_set(10)
@@ -126,18 +135,24 @@ class TestAge:
         tree.links.remove(bsdf.inputs["Base Color"].links[0])
         bsdf.inputs["Base Color"].default_value = (0.1, 0.4, 0.7, 1.0)
         assert bpy.ops.lightfade.age(years=10) == {"FINISHED"}
-        assert mat.lightfade.aged_image is not None and mat.lightfade.flat_albedo
-        assert bsdf.inputs["Base Color"].links[0].from_node.image == mat.lightfade.aged_image
+        from lightfade_addon.blender.copies import copies_of
+
+        (copy,) = copies_of(mat)
+        assert copy.lightfade.path == "FLAT"
+        copy_bsdf = copy.node_tree.nodes["Principled BSDF"]
+        assert copy_bsdf.inputs["Base Color"].links[0].from_node.image == aged_image(mat)
+        assert not bsdf.inputs["Base Color"].is_linked          # the original is untouched
+        assert carpet["floor"].material_slots[0].material == copy
 
     def test_python_api(self, carpet):
         from lightfade_addon import api
 
         images = api.age_scene(years=3)
-        assert [i.name for i in images] == ["LF_Aged_Carpet"]
+        assert [i.name for i in images] == ["LF_Aged_Carpet.Floor"]
         assert api.set_years(years=7) >= 0
         assert bpy.context.scene.lightfade.years == 7
         api.reset()
-        assert "LF_Aged_Carpet" not in bpy.data.images
+        assert "LF_Aged_Carpet.Floor" not in bpy.data.images
 
 
 class TestReset:
@@ -153,24 +168,24 @@ class TestReset:
         assert sorted((l.from_node.name, l.from_socket.identifier, l.to_node.name,
                        l.to_socket.identifier) for l in mat.node_tree.links) == links_before
         assert sorted(i.name for i in bpy.data.images) == images_before
-        assert mat.lightfade.aged_image is None
+        assert not [m for m in bpy.data.materials if m.name.startswith("LF_")]
 
 
 class TestSaveReload:
     def test_round_trip_renders_without_simulating(self, carpet, tmp_path, monkeypatch):
         bpy.ops.lightfade.age(years=4)
-        aged_before = rgba(carpet["material"].lightfade.aged_image).copy()
+        aged_before = rgba(aged_image(carpet["material"])).copy()
         path = str(tmp_path / "aged.blend")
         bpy.ops.wm.save_as_mainfile(filepath=path)
         bpy.ops.wm.open_mainfile(filepath=path)
         mat = bpy.data.materials["Carpet"]
-        assert mat.lightfade.aged_image is not None and mat.lightfade.aged_image.packed_file
-        np.testing.assert_allclose(rgba(mat.lightfade.aged_image), aged_before, atol=1e-6)
+        assert aged_image(mat) is not None and aged_image(mat).packed_file
+        np.testing.assert_allclose(rgba(aged_image(mat)), aged_before, atol=1e-6)
         from lightfade_addon.core import grid
 
         monkeypatch.setattr(grid, "build_grid", lambda *a, **k: pytest.fail("simulated"))
         bpy.context.scene.lightfade.years = 12            # ager rebuilt from the file's grid
-        assert np.abs(rgba(mat.lightfade.aged_image) - aged_before).max() > 0.01
+        assert np.abs(rgba(aged_image(mat)) - aged_before).max() > 0.01
 
 
     def test_saving_twice_keeps_the_aged_pixels(self, carpet, tmp_path):
@@ -179,7 +194,7 @@ class TestSaveReload:
         bpy.ops.wm.save_as_mainfile(filepath=path)
         bpy.ops.wm.save_as_mainfile(filepath=path)
         bpy.ops.wm.open_mainfile(filepath=path)
-        image = bpy.data.materials["Carpet"].lightfade.aged_image
+        image = aged_image(bpy.data.materials["Carpet"])
         assert image.packed_file is not None and tuple(image.size) == (64, 64)
 
 
@@ -187,36 +202,44 @@ class TestBadInput:
     def test_without_exposure_maps_the_operator_reports_the_object(self, floor_scene):
         with pytest.raises(RuntimeError, match="Object 'Floor' has no exposure maps"):
             bpy.ops.lightfade.age(years=2)             # no bake yet: one error line
-        assert floor_scene["material"].lightfade.aged_image is None
+        assert len(bpy.data.materials) == 1
 
     def test_error_message_names_the_object(self, floor_scene):
-        from lightfade_addon.blender.aging import AgingError, age_scene
+        from lightfade_addon.blender.errors import AgingError
+        from lightfade_addon.blender.prepare import age_scene
 
         with pytest.raises(AgingError, match="Floor.*Bake Exposure"):
             age_scene(bpy.context.scene, 2)
 
     @pytest.mark.parametrize("years", [-1.0, float("nan")])
     def test_negative_or_nan_years(self, carpet, years):
-        from lightfade_addon.blender.aging import AgingError, age_scene
+        from lightfade_addon.blender.errors import AgingError
+        from lightfade_addon.blender.prepare import age_scene
 
         with pytest.raises(AgingError, match="Years"):
             age_scene(bpy.context.scene, years)
 
-    def test_shared_material_is_refused_with_advice(self, carpet):
-        from lightfade_addon.blender.aging import AgingError, age_scene
+    def test_every_problem_is_reported_at_once_before_any_change(self, carpet):
+        from lightfade_addon.blender.errors import AgingError
+        from lightfade_addon.blender.prepare import age_scene
 
-        carpet["box"].data.materials.append(carpet["material"])
-        with pytest.raises(AgingError, match="Make Single User"):
+        carpet["box"].data.materials.append(carpet["material"])    # no exposure maps
+        node = carpet["material"].node_tree.nodes["Image Texture"]
+        missing = bpy.data.images.new("Missing", 8, 8)
+        missing.source = "FILE"
+        missing.filepath = "//nowhere.png"
+        node.image = missing
+        with pytest.raises(AgingError) as err:
             age_scene(bpy.context.scene, 2)
+        assert "Object 'Box'" in str(err.value) and "Bake Exposure" in str(err.value)
+        assert "Image 'Missing'" in str(err.value) and "2 problems" in str(err.value)
+        assert len(bpy.data.materials) == 1
 
-    def test_udim_and_missing_images(self, carpet, tmp_path):
-        from lightfade_addon.blender.aging import AgingError, age_scene
+    def test_missing_images(self, carpet, tmp_path):
+        from lightfade_addon.blender.errors import AgingError
+        from lightfade_addon.blender.prepare import age_scene
 
         node = carpet["material"].node_tree.nodes["Image Texture"]
-        tiled = bpy.data.images.new("Tiles", 8, 8, tiled=True)
-        node.image = tiled
-        with pytest.raises(AgingError, match="UDIM"):
-            age_scene(bpy.context.scene, 2)
         missing = bpy.data.images.new("Missing", 8, 8)
         missing.source = "FILE"
         missing.filepath = str(tmp_path / "nowhere.png")
@@ -225,7 +248,8 @@ class TestBadInput:
             age_scene(bpy.context.scene, 2)
 
     def test_material_without_nodes_or_nothing_enabled(self, carpet):
-        from lightfade_addon.blender.aging import AgingError, age_scene
+        from lightfade_addon.blender.errors import AgingError
+        from lightfade_addon.blender.prepare import age_scene
 
         carpet["material"].lightfade.enabled = False
         bpy.ops.object.select_all(action="DESELECT")
@@ -254,6 +278,8 @@ def test_zero_configuration(blender, lf):
     bpy.ops.mesh.primitive_plane_add(size=2.0)
     plane = bpy.context.active_object
     mat = bpy.data.materials.new("Poster")
+    if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+        mat.use_nodes = True
     image = bpy.data.images.new("PosterAlbedo", 32, 32)
     px = np.empty((32, 32, 4), np.float32)
     px[...] = (0.9, 0.1, 0.6, 1.0)
@@ -272,7 +298,39 @@ def test_zero_configuration(blender, lf):
     assert not mat.lightfade.enabled
     assert bpy.ops.lightfade.bake_exposure() == {"FINISHED"}
     assert bpy.ops.lightfade.age(years=5) == {"FINISHED"}
-    aged = rgba(mat.lightfade.aged_image)[..., :3]
+    aged = rgba(aged_image(mat))[..., :3]
     assert mat.lightfade.recipe == "PRINTED_PAPER"
     dE = delta_E_2000(lab_linear(aged), lab_linear(srgb_decode(px[..., :3])))
     assert dE.mean() > 2
+
+
+def test_bake_can_report_material_problems_before_cycles(floor_scene):
+    """Before any bake: material problems are found, a missing exposure is not one."""
+    from lightfade_addon.blender.targets import material_problems
+
+    tree = floor_scene["material"].node_tree
+    assert material_problems(bpy.context.scene) == []
+    second = tree.nodes.new("ShaderNodeBsdfPrincipled")
+    mix = tree.nodes.new("ShaderNodeMixShader")
+    out = tree.get_output_node("ALL")
+    tree.links.new(tree.nodes["Principled BSDF"].outputs["BSDF"], mix.inputs[1])
+    tree.links.new(second.outputs["BSDF"], mix.inputs[2])
+    tree.links.new(mix.outputs["Shader"], out.inputs["Surface"])
+    (problem,) = material_problems(bpy.context.scene)
+    assert "Carpet" in problem and "several colour BSDFs" in problem
+
+
+def test_diffuse_bsdf_colour_is_aged(carpet):
+    """A Diffuse BSDF's Color is the colour socket; the image goes the direct way."""
+    from lightfade_addon.blender.copies import copies_of
+
+    mat = carpet["material"]
+    tree = mat.node_tree
+    diffuse = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    tree.links.new(tree.nodes["Image Texture"].outputs["Color"], diffuse.inputs["Color"])
+    tree.links.new(diffuse.outputs["BSDF"], tree.get_output_node("ALL").inputs["Surface"])
+    assert bpy.ops.lightfade.age(years=5) == {"FINISHED"}
+    (copy,) = copies_of(mat)
+    assert copy.lightfade.path == "DIRECT"
+    fed = copy.node_tree.nodes[diffuse.name].inputs["Color"].links[0].from_node
+    assert fed.image == copy.lightfade.aged_image

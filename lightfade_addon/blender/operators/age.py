@@ -1,16 +1,17 @@
-"""``lightfade.age``: age the enabled materials and show the scene's years."""
+"""``lightfade.age``: age the target materials and show the scene's years."""
 
 import bpy
 from bpy.props import FloatProperty
 
-from ..aging import AgingError, age_scene
+from ..errors import AgingError
+from ..prepare import age_scene
 from ..progress import window_progress
 
 
 class LIGHTFADE_OT_age(bpy.types.Operator):
-    """Age the materials with LightFade enabled (of the selected meshes, or all): unmix the \
-albedo, simulate or load the fading grid, and wire new aged images into the materials \
-(the originals are kept)"""
+    """Age the ticked materials (of the selected meshes, or all): each object gets its own \
+aged copy of its materials, Base Color evaluated directly or with Cycles (the originals are \
+kept untouched)"""
 
     bl_idname = "lightfade.age"
     bl_label = "Age"

@@ -1,14 +1,14 @@
-"""``lightfade.reset``: undo aging — original links back, LightFade's images removed."""
+"""``lightfade.reset``: undo aging — slots and links back, LightFade's images removed."""
 
 import bpy
 from bpy.props import BoolProperty
 
-from .. import aging
+from ..reset import reset_scene
 
 
 class LIGHTFADE_OT_reset(bpy.types.Operator):
-    """Restore the materials' original Base Color links and remove LightFade's aged images \
-(and, optionally, the exposure maps and stored grids)"""
+    """Put the objects' original materials back and remove LightFade's aged copies, images \
+and unused grids (and, optionally, the exposure maps)"""
 
     bl_idname = "lightfade.reset"
     bl_label = "Reset"
@@ -16,26 +16,12 @@ class LIGHTFADE_OT_reset(bpy.types.Operator):
 
     exposure: BoolProperty(
         name="Remove Exposure Maps",
-        description="Also remove the baked exposure maps and the grids stored in the file",
+        description="Also remove the baked exposure maps and the UV map the bake made",
         default=False,
     )
 
     def execute(self, context):
-        scene = context.scene
-        materials = [m for m in bpy.data.materials if m.lightfade.aged_image is not None
-                     or (m.node_tree and m.node_tree.nodes.get(aging.NODE_NAME))]
-        for material in materials:
-            aging.reset_material(material)
-        removed_maps = 0
-        if self.exposure:
-            for obj in scene.objects:
-                for item in obj.lightfade.exposure_maps:
-                    if item.image is not None and item.image.users <= 1:
-                        bpy.data.images.remove(item.image)
-                        removed_maps += 1
-                obj.lightfade.exposure_maps.clear()
-            if aging.GRID_STORE in scene:
-                del scene[aging.GRID_STORE]
-        self.report({"INFO"}, f"Reset {len(materials)} material(s)"
-                    + (f", removed {removed_maps} exposure map(s)" if self.exposure else ""))
+        count = reset_scene(context.scene, exposure=self.exposure)
+        self.report({"INFO"}, f"Reset {count} aged material(s)"
+                    + (", removed the exposure maps" if self.exposure else ""))
         return {"FINISHED"}

@@ -1,0 +1,130 @@
+"""Each object's own aged copy of a material, in object-linked slots.
+
+Aging never edits the user's material: :func:`make_copy` copies it (and the node
+groups on the way to its colour BSDF) for one object, :func:`assign` puts the copy in
+that object's slots with ``slot.link = 'OBJECT'`` — so a material shared by a sunny and
+a shaded object, or a mesh shared by linked duplicates, gives each object its own look
+without making anything single user — and :func:`wire` feeds the aged image into the
+copy's colour socket.  :func:`remove_copy` puts the slots back exactly (link and
+object-level material) and deletes the copy and the group trees made for it.
+"""
+
+from __future__ import annotations
+
+import bpy
+
+from .source import tree_at
+
+AGED_PREFIX = "LF_Aged_"
+#: Name of the Image Texture node that feeds the aged colour in a copy.
+NODE_NAME = "LightFade Aged Albedo"
+#: Custom property tagging node trees copied for a copy (removed with it).
+TREE_TAG = "lightfade_copy"
+
+
+def copy_name(material, obj):
+    return f"{AGED_PREFIX}{material.name}.{obj.name}"
+
+
+def copies_of(material=None, obj=None):
+    """Aged copies in the file, optionally only those of ``material`` and/or ``obj``."""
+    return [m for m in bpy.data.materials if m.lightfade.source is not None
+            and (material is None or m.lightfade.source == material)
+            and (obj is None or m.lightfade.aged_object == obj)]
+
+
+def original(material):
+    """The user's material behind ``material`` (itself unless it is an aged copy)."""
+    return material.lightfade.source or material
+
+
+def make_copy(obj, material, colour):
+    """A copy of ``material`` for ``obj``, with private copies of the groups on the way
+    to the colour BSDF (``colour.groups``) so wiring inside them touches nothing else."""
+    copy = material.copy()
+    copy.name = copy_name(material, obj)
+    copy.use_fake_user = False
+    props = copy.lightfade
+    props.slot_backups.clear()               # a copy of a copy starts with no backups
+    props.source = material
+    props.aged_object = obj
+    tree = copy.node_tree
+    for name in colour.groups:
+        node = tree.nodes[name]
+        node.node_tree = node.node_tree.copy()
+        node.node_tree[TREE_TAG] = True
+        tree = node.node_tree
+    return copy
+
+
+def assign(obj, material, copy):
+    """Show ``copy`` in every slot of ``obj`` showing ``material`` (object-linked)."""
+    for index, slot in enumerate(obj.material_slots):
+        if slot.material != material:
+            continue
+        backup = copy.lightfade.slot_backups.add()
+        backup.index = index
+        backup.link = slot.link
+        if slot.link != "OBJECT":
+            slot.link = "OBJECT"
+        backup.material = slot.material          # the object-level material (usually none)
+        slot.material = copy
+
+
+def restore_slots(copy):
+    """Put the slots :func:`assign` changed back: object-level material, then the link."""
+    obj = copy.lightfade.aged_object
+    if obj is None:
+        return
+    slots = obj.material_slots
+    for backup in copy.lightfade.slot_backups:
+        if backup.index >= len(slots):
+            continue
+        slot = slots[backup.index]
+        if slot.link == "OBJECT" and slot.material == copy:
+            slot.material = backup.material
+            if slot.link != backup.link:
+                slot.link = backup.link
+    copy.lightfade.slot_backups.clear()
+
+
+def wire(copy, colour, image, uv_map, interpolation="Linear", extension="EXTEND"):
+    """Feed ``image`` (sampled with ``uv_map``) into the copy's colour socket."""
+    tree = tree_at(copy.node_tree, colour.groups)
+    bsdf = tree.nodes[colour.node]
+    node = tree.nodes.get(NODE_NAME)
+    if node is None:
+        node = tree.nodes.new("ShaderNodeTexImage")
+        node.name = node.label = NODE_NAME
+        node.location = (bsdf.location.x - 320, bsdf.location.y + 80)
+        uv = tree.nodes.new("ShaderNodeUVMap")
+        uv.name = uv.label = NODE_NAME + " UV"
+        uv.location = (node.location.x - 220, node.location.y)
+        tree.links.new(uv.outputs["UV"], node.inputs["Vector"])
+    tree.nodes[NODE_NAME + " UV"].uv_map = uv_map
+    node.image = image
+    node.interpolation = interpolation
+    node.extension = extension
+    tree.links.new(node.outputs["Color"], bsdf.inputs[colour.socket])
+
+
+def remove_copy(copy):
+    """Restore the slots and delete the copy and the node groups copied for it."""
+    restore_slots(copy)
+    trees = [n.node_tree for n in _all_group_nodes(copy.node_tree)
+             if n.node_tree is not None and n.node_tree.get(TREE_TAG)]
+    bpy.data.materials.remove(copy)
+    for tree in trees:
+        if tree.users == 0:
+            bpy.data.node_groups.remove(tree)
+
+
+def _all_group_nodes(tree, depth=0):
+    if tree is None or depth > 16:
+        return []
+    found = []
+    for node in tree.nodes:
+        if node.type == "GROUP" and node.node_tree is not None:
+            found.append(node)
+            found += _all_group_nodes(node.node_tree, depth + 1)
+    return found

@@ -1,0 +1,71 @@
+"""Image pixels as arrays, through Blender's own image API (``foreach_get/set``: fast)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..core.colorimetry import srgb_decode
+
+#: Colour spaces whose stored values LightFade can read without Blender's colour
+#: management: sRGB (decoded here) and linear Rec.709 / data (taken as they are).
+SRGB_SPACES = ("srgb",)
+LINEAR_SPACES = ("linear rec.709", "linear", "non-color", "raw", "linear srgb")
+
+
+def read_rgba(image):
+    """(H, W, 4) float32 pixels of an image (grey and RGB images padded to RGBA)."""
+    w, h = image.size
+    c = image.channels
+    buf = np.empty(w * h * c, dtype=np.float32)
+    image.pixels.foreach_get(buf)
+    buf = buf.reshape(h, w, c)
+    if c == 4:
+        return buf
+    out = np.ones((h, w, 4), dtype=np.float32)
+    out[..., :3] = buf[..., :3] if c >= 3 else buf[..., :1]
+    return out
+
+
+def write_rgba(image, rgba):
+    """Write (n, 4) or (H, W, 4) float32 pixels into ``image`` and tag it for redraw."""
+    image.pixels.foreach_set(np.ascontiguousarray(rgba, dtype=np.float32).ravel())
+    image.update()
+
+
+def readable_colourspace(image):
+    """True if LightFade reads this image's colours correctly without Cycles."""
+    if image.is_float:
+        return True                      # float buffers hold scene-linear values
+    name = image.colorspace_settings.name.lower()
+    return name.startswith(SRGB_SPACES) or name in LINEAR_SPACES
+
+
+def read_linear(image):
+    """(H, W, 4) float32 of an image's colour in linear Rec.709 (alpha as stored).
+
+    Byte images in an sRGB colour space are decoded (IEC 61966-2-1); float images
+    already hold scene-linear values; linear and non-colour data are taken as stored.
+    """
+    rgba = read_rgba(image)
+    if not image.is_float and image.colorspace_settings.name.lower().startswith(SRGB_SPACES):
+        rgba[..., :3] = srgb_decode(np.clip(rgba[..., :3], 0.0, 1.0))
+    return rgba
+
+
+def resample(a, shape):
+    """Bilinear resampling of an (h, w) map to ``shape`` in UV space (texel centres)."""
+    h, w = a.shape
+    H, W = shape
+    if (h, w) == (H, W):
+        return a
+    y = np.clip((np.arange(H) + 0.5) * h / H - 0.5, 0, h - 1)
+    x = np.clip((np.arange(W) + 0.5) * w / W - 0.5, 0, w - 1)
+    y0 = np.minimum(y.astype(int), h - 2 if h > 1 else 0)
+    x0 = np.minimum(x.astype(int), w - 2 if w > 1 else 0)
+    fy = (y - y0)[:, None]
+    fx = (x - x0)[None, :]
+    y1 = np.minimum(y0 + 1, h - 1)
+    x1 = np.minimum(x0 + 1, w - 1)
+    top = a[y0][:, x0] * (1 - fx) + a[y0][:, x1] * fx
+    bottom = a[y1][:, x0] * (1 - fx) + a[y1][:, x1] * fx
+    return top * (1 - fy) + bottom * fy

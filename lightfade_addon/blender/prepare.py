@@ -1,0 +1,120 @@
+"""Age: prepare aged copies of the target materials and show a number of years.
+
+The order is the promise made to the user: every check that can refuse runs first
+(:func:`.targets.check`, no Cycles work yet) and all problems are reported together;
+then each object gets its own aged copies (:mod:`.copies`), the Base Color of the
+copies on the baked path is evaluated by Cycles (:mod:`.albedo`, one bake per object),
+the agers are prepared (:mod:`.runtime`) and the years are written (:mod:`.apply`).
+If anything fails on the way, the copies made so far are removed again.
+"""
+
+from __future__ import annotations
+
+import bpy
+
+from . import runtime
+from .albedo import albedo_image, bake_albedos
+from .apply import write_years
+from .copies import assign, copies_of, make_copy, wire
+from .errors import AgingError, check_years
+from .exposure import exposure_shape, exposure_uv
+from .grids import purge
+from .reset import remove_aged
+from .targets import check, format_problems, targets
+
+
+def _view_layer(scene):
+    context = bpy.context
+    return context.view_layer if context.scene == scene else scene.view_layers[0]
+
+
+def _aged_image(copy, size):
+    w, h = size
+    image = bpy.data.images.get(copy.name)
+    if image is not None:
+        bpy.data.images.remove(image)
+    image = bpy.data.images.new(copy.name, w, h, alpha=True, float_buffer=True)
+    image.colorspace_settings.name = "Linear Rec.709"
+    return image
+
+
+def _new_copy(obj, material, plan, years):
+    copy = make_copy(obj, material, plan.colour)
+    assign(obj, material, copy)
+    props = copy.lightfade
+    props.path = plan.path
+    props.reason = plan.reason
+    props.uv_map = exposure_uv(obj)
+    props.max_years = max(runtime.MIN_PREPARED_YEARS, 2.0 * years)
+    h, w = exposure_shape(obj)
+    if plan.path == "DIRECT":
+        props.albedo = plan.image
+        w, h = plan.image.size
+    elif plan.path == "FLAT":
+        props.flat_colour = plan.flat
+    else:
+        props.albedo = albedo_image(copy, (h, w))
+    props.aged_image = _aged_image(copy, (w, h))
+    return copy
+
+
+def lock_interface(scene):
+    """Turn Render > Lock Interface on, remembering the user's setting for Reset."""
+    props = scene.lightfade
+    if props.lock_interface_before < 0:
+        props.lock_interface_before = int(scene.render.use_lock_interface)
+    scene.render.use_lock_interface = True
+
+
+def age_scene(scene, years, selected=(), progress=None, report=None):
+    """Age the target materials (see :func:`.targets.targets`) and show ``years``.
+
+    Returns the aged images, one per (object, material).  Raises :class:`AgingError`
+    with every problem found, before anything changes, when any pair cannot be aged.
+    """
+    years = check_years(years)
+    pairs = targets(scene, selected)
+    if not pairs:
+        raise AgingError("Nothing to age: select meshes with materials, or enable LightFade on "
+                         "a material (Material Properties > LightFade > Age this Material)")
+    plans, problems = check(scene, pairs)
+    if problems:
+        raise AgingError(format_problems(problems))
+    say = progress or (lambda f, m: None)
+    for obj, material in pairs:
+        for old in copies_of(material, obj):
+            remove_aged(old)
+    made = []
+    try:
+        for obj in dict.fromkeys(obj for obj, _m in pairs):
+            jobs = []
+            for material in (m for o, m in pairs if o == obj):
+                plan = plans[obj, material]
+                copy = _new_copy(obj, material, plan, years)
+                made.append((copy, plan))
+                if plan.path == "BAKED":
+                    jobs.append((copy, plan.colour, copy.lightfade.albedo))
+            if jobs:
+                say(len(made) / (2 * len(pairs)), f"{obj.name}: baking Base Color with Cycles")
+                bake_albedos(scene, _view_layer(scene), obj, jobs, exposure_uv(obj),
+                             scene.lightfade.bake_margin)
+        for k, (copy, plan) in enumerate(made):
+            props = copy.lightfade
+
+            def step(f, msg, k=k, name=props.source.name):
+                say((len(made) + k + f) / (2 * len(made)), f"{name}: {msg}")
+
+            state = runtime.prepare(scene, copy, exposure_shape(props.aged_object), step)
+            props.signature = runtime.signature(scene, copy)
+            wire(copy, plan.colour, props.aged_image, props.uv_map)
+            write_years(state, props.aged_image, years)
+    except BaseException:
+        for copy, _plan in made:
+            remove_aged(copy)
+        raise
+    purge(scene, {c.lightfade.grid_key for c in copies_of()})
+    lock_interface(scene)
+    if scene.lightfade.years != years:
+        scene.lightfade.years = years
+    scene.lightfade.last_valid_years = years
+    return [copy.lightfade.aged_image for copy, _plan in made]

@@ -1,0 +1,51 @@
+"""Reset: the file as it was before Age (and, optionally, before Bake Exposure).
+
+Slots and links come back exactly (:func:`.copies.remove_copy`), LightFade's images
+and copied node groups are removed, only grids still named by an aged copy stay in
+the file, and Render > Lock Interface is put back as the user had it.
+"""
+
+from __future__ import annotations
+
+import bpy
+
+from . import runtime
+from .albedo import ALBEDO_PREFIX
+from .copies import copies_of, remove_copy
+from .exposure import remove_exposure
+from .grids import purge
+
+
+def remove_aged(copy):
+    """Remove one aged copy: slots restored, its images (if nothing else uses them) gone."""
+    runtime.forget(copy)
+    props = copy.lightfade
+    images = [props.aged_image]
+    if props.albedo is not None and props.albedo.name.startswith(ALBEDO_PREFIX):
+        images.append(props.albedo)
+    props.aged_image = None
+    props.albedo = None
+    remove_copy(copy)
+    for image in images:
+        if image is not None and image.users == 0:
+            bpy.data.images.remove(image)
+
+
+def reset_scene(scene, exposure=False):
+    """Undo Age for every aged copy of ``scene``'s objects; returns how many.
+
+    With ``exposure=True`` the exposure maps (and the UV maps the bake made) go too.
+    """
+    objects = set(scene.objects)
+    copies = [c for c in copies_of() if c.lightfade.aged_object in objects
+              or c.lightfade.aged_object is None]
+    for copy in copies:
+        remove_aged(copy)
+    if exposure:
+        remove_exposure(scene, [o for o in scene.objects if o.type == "MESH"])
+    purge(scene, {c.lightfade.grid_key for c in copies_of()})
+    props = scene.lightfade
+    if props.lock_interface_before >= 0:
+        scene.render.use_lock_interface = bool(props.lock_interface_before)
+        props.lock_interface_before = -1
+    return len(copies)

@@ -1,0 +1,61 @@
+"""Which (object, material) pairs an Age acts on, and every reason it would refuse.
+
+:func:`targets` picks the pairs; :func:`check` runs every check that can refuse —
+before any Cycles work — and returns all problems at once, so one message can name
+every object and material and what to do.
+"""
+
+from __future__ import annotations
+
+from .copies import original
+from .source import material_plan
+
+
+def _materials(obj):
+    return [original(s.material) for s in obj.material_slots if s.material is not None]
+
+
+def targets(scene, selected=()):
+    """``[(object, material)]`` to age; materials are the user's (never aged copies).
+
+    With meshes selected: their ticked materials ("Age this Material"); if none of
+    them is ticked, all their materials (zero configuration: the default recipe).
+    With nothing selected: the ticked materials of every mesh in the scene.
+    """
+    chosen = [o for o in selected if o.type == "MESH"]
+    objects = chosen or [o for o in scene.objects if o.type == "MESH"]
+    ticked = any(m.lightfade.enabled for o in objects for m in _materials(o))
+    pairs = []
+    for obj in objects:
+        for material in _materials(obj):
+            if (material.lightfade.enabled or (chosen and not ticked)) \
+                    and (obj, material) not in pairs:
+                pairs.append((obj, material))
+    return pairs
+
+
+def check(scene, pairs, need_exposure=True):
+    """``(plans, problems)``: the :class:`.source.Plan` of every pair, and every problem
+    found (each one line naming the object or material and what to do), in order."""
+    plans, problems = {}, []
+    for obj, material in pairs:
+        plan = material_plan(scene, obj, material, need_exposure)
+        plans[obj, material] = plan
+        for problem in plan.problems:
+            if problem not in problems:
+                problems.append(problem)
+    return plans, problems
+
+
+def material_problems(scene, objects=()):
+    """Every material problem Age would refuse that no bake can fix (for the Bake
+    operator to report, together with its own checks, before any Cycles work)."""
+    return check(scene, targets(scene, objects), need_exposure=False)[1]
+
+
+def format_problems(problems):
+    """One message for a list of problems (first line says how many)."""
+    if len(problems) == 1:
+        return problems[0]
+    return f"{len(problems)} problems, nothing was changed:\n" + "\n".join(
+        f"- {p}" for p in problems)
