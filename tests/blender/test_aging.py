@@ -277,6 +277,8 @@ def test_zero_configuration(blender, lf):
     bpy.ops.mesh.primitive_plane_add(size=2.0)
     plane = bpy.context.active_object
     mat = bpy.data.materials.new("Poster")
+    if bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
     image = bpy.data.images.new("PosterAlbedo", 32, 32)
     px = np.empty((32, 32, 4), np.float32)
     px[...] = (0.9, 0.1, 0.6, 1.0)
