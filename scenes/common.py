@@ -364,6 +364,8 @@ def add_camera(name, location, target, lens=35.0, coll=None):
 def world_sky(scene, colour, strength, name="World"):
     """A uniform-colour world (sky fill light) of the given strength."""
     world = bpy.data.worlds.new(name)
+    if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+        world.use_nodes = True
     bg = world.node_tree.nodes["Background"]
     bg.inputs["Color"].default_value = (*colour, 1.0)
     bg.inputs["Strength"].default_value = strength

@@ -15,9 +15,9 @@ Where the data lives
     enabled (the default).
 ``Material.lightfade`` (:class:`LIGHTFADE_PG_material`)
     The aging recipe of a material.
-``Object.lightfade`` (:class:`LIGHTFADE_PG_object`)
-    The exposure maps baked for a mesh, one per emitter
-    (:class:`LIGHTFADE_PG_exposure_map`), and the UV map they were baked on.
+``Object.lightfade`` and ``Scene.lightfade_bake``
+    The exposure maps of a mesh and the bake settings: :mod:`.bake.records` (registered
+    with the bake package).
 
 Exposure maps hold illuminance in lux (see :mod:`.bake` for the calibration); the annual
 dose of a texel is ``lux * hours_per_day * days_per_year`` lux·h.
@@ -222,47 +222,6 @@ class LIGHTFADE_PG_material(PropertyGroup):
     )
 
 
-class LIGHTFADE_PG_exposure_map(PropertyGroup):
-    """One baked exposure map: the illuminance (lux) one emitter gives each texel."""
-
-    # ``name`` (inherited) is the emitter name too, so that ``maps["Sun"]`` works.
-    emitter: StringProperty(
-        name="Emitter",
-        description="Light object name, \"World\", or emissive object name this map was baked for",
-    )
-    emitter_kind: EnumProperty(
-        name="Emitter Kind",
-        description="Type of the emitter this map was baked for",
-        items=EMITTER_KIND_ITEMS,
-        default="SUN",
-    )
-    image: PointerProperty(
-        name="Exposure Image",
-        type=bpy.types.Image,
-        description="Float image (packed) holding illuminance in lux per texel while the emitter is on",
-    )
-
-
-class LIGHTFADE_PG_object(PropertyGroup):
-    """Exposure maps baked for a mesh object."""
-
-    exposure_maps: CollectionProperty(
-        type=LIGHTFADE_PG_exposure_map,
-        name="Exposure Maps",
-        description="One illuminance map per emitter (lamp, world, emissive mesh)",
-    )
-    active_map_index: IntProperty(
-        name="Active Exposure Map",
-        description="Index of the exposure map shown in the panel list",
-        default=0,
-        min=0,
-    )
-    uv_map: StringProperty(
-        name="UV Map",
-        description="UV map the exposure maps were baked on (the aged textures must use the same one)",
-    )
-
-
 #: Callables ``fn(scene)`` run when the years slider changes to a valid value.  The
 #: handlers module adds itself on register, so this module imports nothing of the shell.
 YEARS_LISTENERS = []
@@ -345,8 +304,6 @@ CLASSES = (
     LIGHTFADE_PG_schedule,
     LIGHTFADE_PG_slot_backup,
     LIGHTFADE_PG_material,
-    LIGHTFADE_PG_exposure_map,
-    LIGHTFADE_PG_object,
     LIGHTFADE_PG_scene,
 )
 
@@ -357,7 +314,6 @@ POINTERS = (
     (bpy.types.World, "lightfade", LIGHTFADE_PG_schedule),
     (bpy.types.Object, "lightfade_emitter", LIGHTFADE_PG_schedule),
     (bpy.types.Material, "lightfade", LIGHTFADE_PG_material),
-    (bpy.types.Object, "lightfade", LIGHTFADE_PG_object),
 )
 
 

@@ -47,7 +47,8 @@ def carpet(floor_scene):
 
 def footprint(obj):
     lux = rgba(obj.lightfade.exposure_maps["Sun"].image)[..., 0]
-    return lux < 0.05 * np.percentile(lux, 90), lux > 0.5 * np.percentile(lux, 90)
+    near = np.max([np.roll(lux, (i, j), (0, 1)) for i in range(-2, 3) for j in range(-2, 3)], 0)  # 2-texel rim: denoised edges
+    return near < 0.001 * np.percentile(lux, 90), lux > 0.5 * np.percentile(lux, 90)
 
 
 class TestAge:
@@ -277,7 +278,7 @@ def test_zero_configuration(blender, lf):
     bpy.ops.mesh.primitive_plane_add(size=2.0)
     plane = bpy.context.active_object
     mat = bpy.data.materials.new("Poster")
-    if bpy.app.version < (5, 0, 0):
+    if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
         mat.use_nodes = True
     image = bpy.data.images.new("PosterAlbedo", 32, 32)
     px = np.empty((32, 32, 4), np.float32)

@@ -50,7 +50,7 @@ def _base_color_image(mat):
 
 
 def _cross2(a, b):
-    """z of the cross product of two 2-D vectors (numpy 2 dropped 2-D ``np.cross``)."""
+    """z of the cross product of two 2-D vectors (numpy 2 rejects 2-D ``np.cross``)."""
     return a[0] * b[1] - a[1] * b[0]
 
 
