@@ -31,8 +31,21 @@ def open_blend(path):
     try:
         bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path), load_ui=False)
     except RuntimeError as err:
-        raise Refused(f"Blender cannot read it as a .blend file ({_first_line(err)})") from None
+        if _looks_like_blend(path):
+            raise Refused(f"Blender {bpy.app.version_string} cannot read this .blend file "
+                          f"({_first_line(err)}): saved by a newer Blender?") from None
+        raise Refused(f"not a .blend file ({_first_line(err)})") from None
     return bpy.context.scene
+
+
+#: How a .blend file starts: plain, gzip- or zstd-compressed.
+_BLEND_MAGIC = (b"BLENDER", b"\x1f\x8b", b"\x28\xb5\x2f\xfd")
+
+
+def _looks_like_blend(path):
+    with open(path, "rb") as f:
+        head = f.read(8)
+    return head.startswith(_BLEND_MAGIC)
 
 
 def output_blend(src, output, in_place, suffix, several):
