@@ -132,3 +132,18 @@ def save_render(scene, path):
     finally:
         _remove(tmp)
     return path
+
+
+def write_text(path, text):
+    """Write ``text`` as ``path`` (UTF-8) through a temporary file and a rename."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    tmp = _temporary(path)
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except OSError as err:
+        raise Refused(f"could not write {path} ({_first_line(err)})") from None
+    finally:
+        _remove(tmp)
+    return path

@@ -106,7 +106,9 @@ def add_subcommands(parser):
                                     "what is stale",
                        description="Describe a file's LightFade state without changing it.")
     _add_files(p)
-    p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--json", nargs="?", const="-", metavar="FILE",
+                   help="print one JSON document instead of text (stdout then carries "
+                        "only the JSON), or write it to FILE")
     return sub
 
 

@@ -238,6 +238,15 @@ def test_info_json_names_paths_emitters_and_stale(work, entry):
     assert leftovers(work) == []
 
 
+def test_info_json_to_a_file(work):
+    proc = ENTRIES["blender -c"]("info", "empty.blend", "--json", "reports/info.json", cwd=work)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    report, = json.loads((work / "reports" / "info.json").read_text())["files"]
+    assert report["file"] == str(work / "empty.blend") and report["would_age"] == []
+    assert "lightfade info: 1 file(s): 1 done" in proc.stdout
+    assert leftovers(work) == []
+
+
 def test_info_text_of_an_aged_file_shows_doses(work):
     assert ENTRIES["python -m"]("age", "good.blend", "--years", "5", cwd=work).returncode == 0
     proc = ENTRIES["blender -c"]("info", "good_aged.blend", "empty.blend", cwd=work)
