@@ -5,7 +5,7 @@
 A plane with a ``size``² photograph-like albedo, a box and a sun (plus a lamp with
 ``--lights 2``); exposure baked at 256² (resampled to the albedo), aged once; then the
 years value is changed repeatedly through the same path as the slider
-(``aging.update_scene``: the dose lookup, ``Image.pixels.foreach_set`` and
+(``apply.update_scene``: the dose lookup, ``Image.pixels.foreach_set`` and
 ``Image.update``). Prints the median latency next to the pixel write alone, the
 one-time preparation, and the process's peak memory.
 """
@@ -68,7 +68,8 @@ def main():
     parser.add_argument("--lights", type=int, default=1, choices=(1, 2))
     parser.add_argument("--repeat", type=int, default=9)
     args = parser.parse_args()
-    from lightfade_addon.blender import apply as aging
+    from lightfade_addon.blender import apply
+    from lightfade_addon.blender.copies import copies_of
 
     scene, mat = build(args.size, args.lights)
     t0 = time.perf_counter()
@@ -78,8 +79,8 @@ def main():
     bpy.ops.lightfade.age(years=1.0)
     prep = time.perf_counter() - t0
     years = iter(np.linspace(2, 60, args.repeat))
-    update = [aging.update_scene(scene, next(years)) for _ in range(args.repeat)]
-    image = mat.lightfade.aged_image
+    update = [apply.update_scene(scene, next(years)) for _ in range(args.repeat)]
+    image = copies_of(mat)[0].lightfade.aged_image
     buf = np.empty(args.size * args.size * 4, np.float32)
     write = []
     for _ in range(args.repeat):

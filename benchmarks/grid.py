@@ -30,8 +30,8 @@ from benchmarks.problem import synthetic_photo
 from lightfade_addon.core.aging import Light, TextureAger
 from lightfade_addon.core.colorimetry import (
     XYZ_to_Lab, delta_E_2000, reflectance_to_XYZ, srgb_decode)
-from lightfade_addon.core.fading import simulate
-from lightfade_addon.core.grid import GridSettings, build_grid
+from lightfade_addon.core.grid import GridSettings
+from lightfade_addon.core.gridbuild import build_grid
 from lightfade_addon.core.recipes import RECIPES
 from lightfade_addon.core.spectra import WAVELENGTHS as LAM, light_spectrum
 from lightfade_addon.core.unmix import get_unmixer
@@ -46,16 +46,15 @@ GRIDS = ((4, 1.0), (6, 1.0), (6, 1.6), (8, 1.6), (10, 1.6))
 
 
 def direct(c, E, doses):
-    A, S, g = RECIPE.optics()
-    r = simulate(A, S, c, RECIPE.sensitivity(), E, g, LAM, duration=max(doses), record=doses,
-                 **RECIPE.solver())
+    r = RECIPE.simulate(RECIPE.concentrations(c), E, max(doses), record=doses)
     return reflectance_to_XYZ(r.initial, LAM), reflectance_to_XYZ(r.history, LAM)
 
 
 def errors(grid, c, X0, X, doses, mix=None):
     out = []
+    initial = np.log(get_unmixer(RECIPE).XYZ(c))
     for k, d in enumerate(doses):
-        aged = X0 * np.exp(grid.log_change(c, np.full(len(c), d), mix))
+        aged = X0 * np.exp(grid.log_change(c, np.full(len(c), d), mix, initial))
         out.append(delta_E_2000(XYZ_to_Lab(aged), XYZ_to_Lab(X[k])))
     return np.concatenate(out)
 

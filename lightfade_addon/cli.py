@@ -8,28 +8,20 @@ line on stderr with exit status 2, never as a traceback.
 
 from __future__ import annotations
 
-import argparse
 import sys
 
 from . import __version__
-from .commands import UserError, discover
-
-
-class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors: ``lightfade: error: ...`` and exit status 2."""
-
-    def error(self, message):
-        self.exit(2, f"lightfade: error: {message} (see: {self.prog} --help)\n")
+from .commands import ArgumentParser, UserError, discover
 
 
 def make_parser(prog=None):
     """The argument parser of every command; ``prog`` defaults to argparse's choice."""
-    parser = _Parser(
+    parser = ArgumentParser(
         prog=prog,
         description="LightFade: physically based light fading and yellowing (layered "
                     "Kubelka-Munk model).")
     parser.add_argument("--version", action="version", version=f"lightfade {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=ArgumentParser)
     for module in discover():
         p = sub.add_parser(module.NAME, help=module.HELP, description=module.HELP)
         module.add_arguments(p)

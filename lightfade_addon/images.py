@@ -88,11 +88,12 @@ class ImageInfo:
         return str(self.metadata.get("oiio:ColorSpace", ""))
 
 
-def _oiio():
+def _oiio(path, verb):
     try:
         import OpenImageIO
     except ImportError:
-        raise ValueError("image files need OpenImageIO: pip install OpenImageIO") from None
+        raise ValueError(f"cannot {verb} {str(path)!r}: image files need OpenImageIO "
+                         f"(pip install OpenImageIO)") from None
     return OpenImageIO
 
 
@@ -131,7 +132,7 @@ def read_image(path):
         raise _fail(path, "no such file")
     if path.is_dir():
         raise _fail(path, "it is a folder, not an image")
-    oiio = _oiio()
+    oiio = _oiio(path, "read")
     inp = oiio.ImageInput.open(str(path), _unassociated_alpha(oiio))
     if inp is None:
         raise _fail(path, _reason(oiio.geterror(), "not an image file OpenImageIO reads"))
@@ -272,7 +273,7 @@ def write_image(path, rgb, alpha=None, dtype="uint8", metadata=None):
         if alpha.shape != rgb.shape[:2]:
             raise ValueError(f"alpha must have shape {rgb.shape[:2]}, got {alpha.shape}")
         samples = np.concatenate([samples, _quantise(alpha, dtype)[..., None]], axis=2)
-    oiio = _oiio()
+    oiio = _oiio(path, "write")
     h, w, c = samples.shape
     spec = oiio.ImageSpec(w, h, c, dtype)
     if c == 4:

@@ -7,9 +7,9 @@ cheap. Who shows it is an adapter:
 
 * :class:`ProgressBar` — the command line: a redrawn bar on a terminal, one plain line
   per new message anywhere else (a pipe, a log, ``blender -b``);
-* ``lightfade_addon.blender.progress.window_progress`` — Blender's window progress
-  indicator (``WindowManager.progress_*``), or a :class:`ProgressBar` line per step
-  in background mode;
+* ``lightfade_addon.blender.progress.WindowProgress`` (and ``window_progress``, its
+  context manager) — Blender's window progress indicator and status bar, or a
+  :class:`ProgressBar` line per step in background mode;
 * the Python API passes the caller's own callable straight through (or :func:`silent`).
 
 Helpers compose them: :func:`scaled` maps a sub-job onto part of the range, so that a
@@ -106,9 +106,10 @@ class ProgressBar:
     def __call__(self, fraction, message=""):
         """Report ``fraction`` in [0, 1] done, with what is being done."""
         try:
-            fraction = min(max(float(fraction), 0.0), 1.0)
+            fraction = float(fraction)
         except (TypeError, ValueError):
             fraction = 0.0
+        fraction = min(max(fraction, 0.0), 1.0) if fraction == fraction else 0.0   # NaN: 0
         prefix = f"{self.label} " if self.label else ""
         if self.tty:
             filled = int(round(fraction * self.width))

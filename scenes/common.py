@@ -120,6 +120,8 @@ def aging_material(name, image, recipe, blue_wool=None, roughness=0.6, specular=
     if recipe not in RECIPES:
         raise ValueError(f"material {name!r}: unknown recipe {recipe!r}, expected one of {RECIPES}")
     mat = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+        mat.use_nodes = True
     nt = mat.node_tree
     bsdf = nt.nodes["Principled BSDF"]
     tex = nt.nodes.new("ShaderNodeTexImage")
@@ -143,6 +145,8 @@ def aging_material(name, image, recipe, blue_wool=None, roughness=0.6, specular=
 def plain_material(name, colour, roughness=0.7, metallic=0.0, emission=None, strength=0.0):
     """An untagged Principled material of one linear colour (walls, fittings)."""
     mat = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+        mat.use_nodes = True
     bsdf = mat.node_tree.nodes["Principled BSDF"]
     bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
     bsdf.inputs["Roughness"].default_value = roughness
@@ -356,6 +360,8 @@ def add_camera(name, location, target, lens=35.0, coll=None):
 def world_sky(scene, colour, strength, name="World"):
     """A uniform-colour world (sky fill light) of the given strength."""
     world = bpy.data.worlds.new(name)
+    if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+        world.use_nodes = True
     bg = world.node_tree.nodes["Background"]
     bg.inputs["Color"].default_value = (*colour, 1.0)
     bg.inputs["Strength"].default_value = strength

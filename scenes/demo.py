@@ -39,7 +39,7 @@ import addon_utils  # noqa: E402
 import numpy as np  # noqa: E402
 
 from scenes import common as C  # noqa: E402
-from scenes import gallery, room, swatches  # noqa: E402
+from scenes import gallery, materials, room, swatches  # noqa: E402
 
 ADDON = "lightfade_addon"
 DOCS_IMG = ROOT / "docs" / "img"
@@ -68,6 +68,10 @@ SCENES = {
                     reveal=False, texture_scale=0.5),
     "swatches": dict(module=swatches, years=(0, 7 / 365, 1 / 12, 0.25, 1), quick_years=(0, 1),
                      reveal=True, texture_scale=1.0),
+    # eight kinds of artist materials (tiled, procedural, mixed, grouped, attribute, shared,
+    # linked duplicates, an image control), half of each in shade; small maps suffice
+    "materials": dict(module=materials, years=(0, 2, 10), quick_years=(0, 10), reveal=False,
+                      texture_scale=0.0625, max_bake_resolution=128),
 }
 
 
@@ -424,12 +428,14 @@ def run_scene(name, out, preset, years=None, verbose=False):
     # bake
     t0 = time.perf_counter()
     with quiet(not verbose):
-        result = api.bake(scene, resolution=preset["bake_resolution"], samples=preset["bake_samples"],
+        bake_resolution = min(preset["bake_resolution"],
+                              spec.get("max_bake_resolution", preset["bake_resolution"]))
+        result = api.bake(scene, resolution=bake_resolution, samples=preset["bake_samples"],
                           margin=preset["bake_margin"])
     n_maps = sum(len(v) for v in result["maps"].values())
     timings["bake"] = time.perf_counter() - t0
     log(f"{name}: baking {n_maps} maps ({len(result['maps'])} objects x {len(result['emitters'])} emitters, "
-        f"{preset['bake_resolution']} px, {preset['bake_samples']} samples) ... {timings['bake']:.1f} s")
+        f"{bake_resolution} px, {preset['bake_samples']} samples) ... {timings['bake']:.1f} s")
     for msg in result.get("skipped", []):
         log(f"{name}:   bake skipped: {msg}")
 

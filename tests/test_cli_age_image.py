@@ -12,8 +12,7 @@ from PIL import Image
 
 from lightfade_addon import cli, images
 from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
-from lightfade_addon.progress import ProgressBar
+    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode, srgb_encode)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H, W = 16, 24
@@ -145,6 +144,41 @@ class TestAgeImage:
         assert levels16 > np.unique(np.rint(aged[..., 0] * 255)).size
         assert sha(photo) == before
 
+    def test_float_exr_is_linear_in_and_out(self, cache, run8, tmp_path, capsys):
+        # The 8-bit photo, linearised into a half-float EXR: ages like the sRGB original.
+        src, alpha, _ = images.read_image(run8["photo"])
+        linear = srgb_decode(src)
+        images.write_image(tmp_path / "lin.exr", linear, alpha, "half",
+                           {"oiio:ColorSpace": "lin_rec709_scene"})
+        stored, _, stored_info = images.read_image(tmp_path / "lin.exr")
+        assert stored_info.colorspace.startswith("lin_rec709")   # OpenImageIO 3.0 drops _scene
+        code, out, err = age(capsys, tmp_path / "lin.exr", "--years", "0", "25",
+                             "--out", tmp_path / "o")
+        assert code == 0, err
+        assert "(linear)" in out
+        zero, a0, info0 = images.read_image(tmp_path / "o" / "lin_0y.exr")
+        aged, a25, info25 = images.read_image(tmp_path / "o" / "lin_25y.exr")
+        assert info0.dtype == info25.dtype == "half"
+        assert info25.colorspace == stored_info.colorspace
+        np.testing.assert_array_equal(zero, stored)
+        np.testing.assert_array_equal(a25, a0)
+        via_srgb, _, _ = images.read_image(run8["out"] / "photo_25y.png")
+        assert delta_E_2000(lab(srgb_encode(aged)), lab(via_srgb)).mean() < 1.0
+        assert mean_dE(src, srgb_encode(aged)) > 0.5
+
+    def test_colour_profile_travels_to_the_outputs(self, cache, tmp_path, capsys):
+        from PIL import ImageCms
+
+        profile = ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes()
+        rgb, alpha = photo_samples(8)
+        Image.fromarray(np.rint(rgb * 255).astype(np.uint8)).save(tmp_path / "icc.png",
+                                                                 icc_profile=profile)
+        code, out, err = age(capsys, tmp_path / "icc.png", "--years", "0", "5")
+        assert code == 0, err
+        for name in ("icc_0y.png", "icc_5y.png"):
+            with Image.open(tmp_path / name) as im:
+                assert im.info.get("icc_profile") == profile, name
+
     def test_exposure_mask_keeps_the_shadow(self, cache, tmp_path, capsys):
         photo = make_photo(tmp_path)
         mask = np.zeros((H, W, 3))
@@ -272,25 +306,6 @@ class TestErrors:
 
 
 class TestHelpers:
-    def test_progress_bar_on_a_terminal_redraws_one_line(self):
-        buf = io.StringIO()
-        bar = ProgressBar("grid", stream=buf, width=10, tty=True)
-        bar(0.0, "start")
-        bar(0.5, "half")
-        bar.close()
-        text = buf.getvalue()
-        assert text.count("\r") == 2 and text.endswith("\n") and text.count("\n") == 1
-        assert "[#####.....]  50%  half" in text
-
-    def test_progress_bar_elsewhere_writes_a_line_per_message(self):
-        buf = io.StringIO()
-        bar = ProgressBar("grid", stream=buf, tty=False)
-        for f in (0.0, 0.1, 0.2):
-            bar(f, "building")
-        bar(1.0, "ready")
-        bar.close()
-        assert buf.getvalue().splitlines() == ["grid   0%  building", "grid 100%  ready"]
-
     def test_parse_years_keeps_the_text(self):
         from lightfade_addon.commands.age_image import format_dose, parse_years
 

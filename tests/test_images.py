@@ -107,7 +107,7 @@ class TestLayoutsAndMetadata:
         profile = ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes()
         rgb, alpha, info = read_image(_png(tmp_path, icc_profile=profile))
         assert bytes(info.metadata["ICCProfile"]) == profile
-        assert info.colorspace.startswith("srgb")
+        assert info.colorspace.lower().startswith("srgb")      # 3.0: "sRGB"; 3.2: "srgb_rec709_scene"
         write_image(tmp_path / "out.tif", rgb, alpha, info.dtype, info.metadata)
         with Image.open(tmp_path / "out.tif") as im:
             assert im.info["icc_profile"] == profile
@@ -181,3 +181,11 @@ class TestErrors:
         with pytest.raises(OSError):
             write_image(tmp_path / "no" / "such" / "x.png", np.zeros((2, 2, 3)))
         assert list(tmp_path.iterdir()) == []
+
+    def test_without_openimageio_the_message_says_what_to_install(self, tmp_path, monkeypatch):
+        import sys
+
+        write_image(tmp_path / "x.png", np.zeros((2, 2, 3)))
+        monkeypatch.setitem(sys.modules, "OpenImageIO", None)       # import fails
+        with pytest.raises(ValueError, match=r"^cannot read '.*x.png': .*pip install OpenImageIO"):
+            read_image(tmp_path / "x.png")

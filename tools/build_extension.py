@@ -1,178 +1,172 @@
-"""Build LightFade's Blender extension zips, one per platform.
+"""Build LightFade's Blender extension zips with Blender's own extension builder.
 
 Usage::
 
-    python tools/build_extension.py [--platform linux-x64 ...] [--out dist/] [--no-validate]
+    ./run py tools/build_extension.py                          # all four platforms -> dist/
+    ./run py tools/build_extension.py --platform linux-x64     # one (repeatable)
+    ./run py tools/build_extension.py --out /tmp/zips
 
-The repository's ``blender_manifest.toml`` lists every wheel for every platform (the single
-source of truth for versions).  For each requested platform this script
+writes ``<out>/lightfade-<version>-<platform>.zip`` (``windows_x64``, ``macos_arm64``,
+``macos_x64``, ``linux_x64``), each installable in Blender 4.2 LTS to 5.2.  This script only
+gathers the inputs; the zips are made and checked by Blender:
 
-1. downloads the wheels that platform needs with ``pip download --only-binary=:all:
-   --no-deps --python-version 3.11 --implementation cp --platform <wheel tag>`` into
-   ``build/wheels/`` (a cache, gitignored; a wheel already there is not downloaded again)
-   and checks that pip returned exactly the file named in the manifest;
-2. writes ``<out>/lightfade-<version>-<platform>.zip`` whose root is the add-on package
-   (``__init__.py``, ``core/``, ``blender/``, ...) with a copy of the manifest beside it
-   that lists only that platform's wheels and ``platforms = ["<platform>"]``, plus
-   ``wheels/``;  ``__pycache__``, ``*.pyc``, tests and caches are left out;
-3. validates the zip with Blender's own extension checker when the ``bpy`` module is
-   importable, and prints the sizes.
+1. **Wheels.** ``blender_manifest.toml`` names every wheel file (the one source of truth for
+   versions).  Each one missing from ``build/wheels/`` (a cache, gitignored) is fetched with
+   ``pip download --only-binary=:all: --no-deps --implementation cp --python-version 3.11|3.13
+   --platform <the wheel's platform tag> <name>==<version>``, and pip must return exactly
+   the named file.
+2. **Source directory.** ``build/extension/`` is rebuilt from scratch: the files of
+   ``lightfade_addon/`` (no caches), the manifest beside them and the wheels the requested
+   platforms need in ``wheels/``.  With ``--platform``, the staged manifest's ``platforms``
+   (and ``wheels``) lists are cut down to those platforms -- the only difference from a full
+   build's zip for the same platform.
+3. **Blender's builder.** ``blender_ext.py build --split-platforms`` (Blender's extension
+   command line, shipped inside the ``bpy`` module that runs this script:
+   ``bpy/<version>/scripts/addons_core/bl_pkg/cli/blender_ext.py``) writes one zip per
+   platform holding only that platform's wheels and a ``[build.generated]`` manifest
+   section; then ``blender_ext.py validate`` checks each zip the way Blender does when it
+   installs one.
 """
 
 from __future__ import annotations
 
 import argparse
-import os
+import importlib.util
 import re
+import shutil
 import subprocess
 import sys
 import tomllib
-import zipfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGE = ROOT / "lightfade_addon"
 MANIFEST = ROOT / "blender_manifest.toml"
 CACHE = ROOT / "build" / "wheels"
+STAGE = ROOT / "build" / "extension"
 PLATFORMS = ("windows-x64", "macos-arm64", "macos-x64", "linux-x64")
-EXCLUDE_DIRS = {"__pycache__", "tests", ".pytest_cache", ".mypy_cache", ".ruff_cache", ".cache"}
-EXCLUDE_SUFFIXES = (".pyc", ".pyo", ".blend1", ".orig", ".rej", "~")
+IGNORE = shutil.ignore_patterns("__pycache__", "*.pyc", ".*")
 
 
-def wheel_platform_tag(filename):
-    """``scipy-1.15.3-cp311-cp311-win_amd64.whl`` -> ``"win_amd64"``."""
-    return Path(filename).stem.split("-")[-1]
+def blender_ext_cli():
+    """Path of Blender's ``blender_ext.py`` inside the importable ``bpy`` module."""
+    spec = importlib.util.find_spec("bpy")
+    if spec is None or not spec.submodule_search_locations:
+        raise SystemExit("tools/build_extension.py needs the bpy module (Blender's builder ships in it): "
+                         "run it as './run py tools/build_extension.py'")
+    for location in spec.submodule_search_locations:
+        found = sorted(Path(location).glob("*/scripts/addons_core/bl_pkg/cli/blender_ext.py"))
+        if found:
+            return found[-1]
+    raise SystemExit(f"Blender's blender_ext.py not found in {list(spec.submodule_search_locations)}")
 
 
-def blender_platforms(wheel_tag):
-    """Blender platforms a wheel platform tag serves (``"any"`` serves all)."""
-    if wheel_tag == "any":
-        return set(PLATFORMS)
-    out = set()
-    for tag in wheel_tag.split("."):
-        if tag.startswith("win") and tag.endswith("amd64"):
-            out.add("windows-x64")
-        elif tag.startswith("macosx_"):
-            if tag.endswith("universal2"):
-                out |= {"macos-x64", "macos-arm64"}
-            elif tag.endswith("arm64"):
-                out.add("macos-arm64")
-            elif tag.endswith("x86_64"):
-                out.add("macos-x64")
-        elif "linux" in tag and tag.endswith("x86_64"):
-            out.add("linux-x64")
-        elif "linux" in tag and tag.endswith("aarch64"):
-            out.add("linux-arm64")
-    return out
+def load_blender_ext(cli):
+    """Blender's builder as a module, to reuse its wheel/platform matching."""
+    spec = importlib.util.spec_from_file_location("blender_ext", cli)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
-def wheels_for(manifest, platform):
-    """The manifest's wheel paths that ``platform`` needs."""
-    return [w for w in manifest.get("wheels", []) if platform in blender_platforms(wheel_platform_tag(w))]
+def pip_download_args(filename):
+    """``pip download`` options and requirement that fetch exactly the wheel ``filename``.
+
+    ``scipy-1.16.3-cp313-cp313-win_amd64.whl`` -> CPython 3.13, platform ``win_amd64``,
+    ``scipy==1.16.3``.  Pure wheels (``py3-none-any``) need no platform options.
+    """
+    dist, version, python_tag, abi_tag, platform_tag = filename[:-4].split("-")
+    args = ["--only-binary=:all:", "--no-deps"]
+    if platform_tag != "any":
+        m = re.fullmatch(r"cp(\d)(\d+)", python_tag)
+        if m is None:
+            raise SystemExit(f"blender_manifest.toml: cannot tell the Python version of {filename}")
+        args += ["--implementation", "cp", "--python-version", f"{m[1]}.{m[2]}", "--abi", abi_tag]
+        args += [arg for tag in platform_tag.split(".") for arg in ("--platform", tag)]
+    return args, f"{dist.replace('_', '-')}=={version}"
 
 
-def fetch_wheel(relpath, platform):
+def fetch_wheel(relpath):
     """Download one manifest wheel into the cache (if missing); return its path."""
     name = Path(relpath).name
     target = CACHE / name
     if target.exists():
         return target
     CACHE.mkdir(parents=True, exist_ok=True)
-    dist, version, *_ = name[:-4].split("-")
-    tag = wheel_platform_tag(name)
-    cmd = [sys.executable, "-m", "pip", "download", "--quiet", "--only-binary=:all:", "--no-deps",
-           "--python-version", "3.11", "--implementation", "cp", "--dest", str(CACHE)]
-    if tag != "any":
-        cmd += ["--platform", tag.split(".")[0]]
-    cmd.append(f"{dist.replace('_', '-')}=={version}")
-    print("  pip download", dist, version, tag, flush=True)
-    subprocess.run(cmd, check=True)
+    args, requirement = pip_download_args(name)
+    print("  pip download", name, flush=True)
+    subprocess.run([sys.executable, "-m", "pip", "download", "--quiet", "--dest", str(CACHE), *args, requirement],
+                   check=True)
     if not target.exists():
-        got = sorted(p.name for p in CACHE.glob(f"{dist}-{version}-*.whl"))
-        raise SystemExit(f"pip did not return {name} for {platform} (got {got}); update blender_manifest.toml")
+        got = sorted(p.name for p in CACHE.glob(f"{name.split('-')[0]}-*.whl"))
+        raise SystemExit(f"pip did not return {name} (got {got}); correct the name in blender_manifest.toml")
     return target
 
 
-def platform_manifest(text, platform, wheels):
-    """The manifest text with only ``wheels`` and ``platforms = [platform]``."""
-    listing = "wheels = [\n" + "".join(f'  "{w}",\n' for w in wheels) + "]"
-    text, n = re.subn(r"^wheels\s*=\s*\[.*?\]", listing, text, count=1, flags=re.M | re.S)
+def stage(platforms, blender_ext):
+    """Fill ``build/extension/`` with the package, manifest and wheels; return its path."""
+    text = MANIFEST.read_text()
+    manifest = tomllib.loads(text)
+    wheels = [w for w in manifest["wheels"]
+              if any(blender_ext.paths_filter_wheels_by_platform([w], p) for p in platforms)]
+    if tuple(platforms) != tuple(manifest["platforms"]):
+        text = _replace_list(text, "platforms", platforms)
+        text = _replace_list(text, "wheels", wheels)
+    shutil.rmtree(STAGE, ignore_errors=True)
+    shutil.copytree(PACKAGE, STAGE, ignore=IGNORE)
+    (STAGE / "blender_manifest.toml").write_text(text)
+    for relpath in wheels:
+        dest = STAGE / relpath
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(fetch_wheel(relpath), dest)
+    return STAGE
+
+
+def _replace_list(text, key, values):
+    """``text`` with the TOML array ``key = [...]`` replaced by ``values``."""
+    listing = f"{key} = [\n" + "".join(f'  "{v}",\n' for v in values) + "]"
+    text, n = re.subn(rf"^{key}\s*=\s*\[.*?\]", listing, text, count=1, flags=re.M | re.S)
     if n != 1:
-        raise SystemExit("blender_manifest.toml: no wheels = [...] list found")
-    text, n = re.subn(r"^platforms\s*=\s*\[.*?\]", f'platforms = ["{platform}"]', text,
-                      count=1, flags=re.M | re.S)
-    if n != 1:
-        raise SystemExit("blender_manifest.toml: no platforms = [...] list found")
-    tomllib.loads(text)  # still valid TOML
+        raise SystemExit(f"blender_manifest.toml: no {key} = [...] list found")
+    tomllib.loads(text)
     return text
 
 
-def package_files():
-    """(path, name in zip) of the add-on package's files."""
-    for dirpath, dirnames, filenames in os.walk(PACKAGE):
-        dirnames[:] = sorted(d for d in dirnames if d not in EXCLUDE_DIRS and not d.startswith("."))
-        for fname in sorted(filenames):
-            if fname.endswith(EXCLUDE_SUFFIXES) or fname.startswith("."):
-                continue
-            path = Path(dirpath) / fname
-            yield path, path.relative_to(PACKAGE).as_posix()
-
-
-def build(platform, out_dir):
-    text = MANIFEST.read_text()
-    manifest = tomllib.loads(text)
-    wheels = wheels_for(manifest, platform)
-    print(f"{platform}: {len(wheels)} wheels", flush=True)
-    paths = [fetch_wheel(w, platform) for w in wheels]
-    out_dir.mkdir(parents=True, exist_ok=True)
-    zpath = out_dir / f"{manifest['id']}-{manifest['version']}-{platform}.zip"
-    with zipfile.ZipFile(zpath, "w", compression=zipfile.ZIP_DEFLATED) as zf:
-        zf.writestr("blender_manifest.toml", platform_manifest(text, platform, wheels))
-        for path, arc in package_files():
-            zf.write(path, arc)
-        for rel, path in zip(wheels, paths):
-            # Wheels are already compressed: store them.
-            zf.write(path, rel.removeprefix("./"), compress_type=zipfile.ZIP_STORED)
-    return zpath
-
-
-def validate(zpath):
-    """Run Blender's extension checker on ``zpath`` if the bpy module is available."""
-    try:
-        import bpy  # noqa: F401
-    except ImportError:
-        print("  (bpy not importable: skipping Blender's validation)")
-        return
-    import addon_utils
-
-    cli = Path(addon_utils.paths()[0]).parent / "addons_core" / "bl_pkg" / "cli" / "blender_ext.py"
-    cli = next((p for p in [cli] + [Path(d) / "bl_pkg" / "cli" / "blender_ext.py" for d in addon_utils.paths()]
-                if p.exists()), None)
-    if cli is None:
-        print("  (Blender's blender_ext.py not found: skipping validation)")
-        return
-    proc = subprocess.run([sys.executable, str(cli), "validate", str(zpath)], capture_output=True, text=True)
+def run_cli(cli, *args):
+    """Run Blender's ``blender_ext.py`` with ``args``; exit with its output if it fails."""
+    proc = subprocess.run([sys.executable, str(cli), *map(str, args)], capture_output=True, text=True)
     if proc.returncode != 0:
-        raise SystemExit(f"Blender rejects {zpath.name}:\n{proc.stdout}{proc.stderr}")
-    print("  valid:", (proc.stdout.strip().splitlines() or ["ok"])[-1])
+        raise SystemExit(f"blender_ext.py {args[0]} failed:\n{proc.stdout}{proc.stderr}")
+    return proc.stdout
+
+
+def build(platforms, out_dir):
+    """Build and validate one zip per platform in ``out_dir``; return the zip paths."""
+    cli = blender_ext_cli()
+    print(f"Blender's builder: {cli}", flush=True)
+    source = stage(platforms, load_blender_ext(cli))
+    out_dir.mkdir(parents=True, exist_ok=True)
+    manifest = tomllib.loads(MANIFEST.read_text())
+    zips = [out_dir / f"{manifest['id']}-{manifest['version']}-{p.replace('-', '_')}.zip" for p in platforms]
+    for z in zips:
+        z.unlink(missing_ok=True)
+    run_cli(cli, "build", "--source-dir", source, "--output-dir", out_dir, "--split-platforms")
+    for z in zips:
+        if not z.exists():
+            raise SystemExit(f"Blender's builder did not write {z}")
+        run_cli(cli, "validate", z)
+        print(f"{z}  {z.stat().st_size / 1e6:.1f} MB  (valid)", flush=True)
+    return zips
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--platform", action="append", choices=PLATFORMS,
-                        help="platform to build (repeatable); default: all")
+                        help="platform to build (repeatable); default: all four")
     parser.add_argument("--out", type=Path, default=ROOT / "dist", help="output directory (default dist/)")
-    parser.add_argument("--no-validate", action="store_true", help="skip Blender's manifest/zip check")
     args = parser.parse_args(argv)
-    zips = []
-    for platform in args.platform or PLATFORMS:
-        zpath = build(platform, args.out)
-        if not args.no_validate:
-            validate(zpath)
-        zips.append(zpath)
-    for z in zips:
-        print(f"{z}  {z.stat().st_size / 1e6:.1f} MB")
-    return zips
+    platforms = [p for p in PLATFORMS if p in (args.platform or PLATFORMS)]
+    return build(platforms, args.out.resolve())
 
 
 if __name__ == "__main__":

@@ -30,7 +30,6 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from lightfade_addon.core.aging import Light, TextureAger, age_image_exact  # noqa: E402
-from lightfade_addon.core.aging import _colour_keys  # noqa: E402  (to report the count)
 from lightfade_addon.core.colorimetry import (  # noqa: E402
     XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
 
@@ -127,7 +126,7 @@ def main(argv=None):
     h, w, _ = photo.shape
     codes = np.rint(photo.reshape(-1, 3) * 255).astype(np.int64) @ [65536, 256, 1]
     n_colours = np.unique(codes).size
-    simulated = _colour_keys(photo.reshape(-1, 3))[1].shape[0]
+    simulated = np.unique(photo.reshape(-1, 3), axis=0).shape[0]    # as age_image_exact
     years = sorted(set(SEQUENCE) | {args.years})
     print(f"photograph: {w}×{h}, {n_colours} distinct colours; recipe {RECIPE}, "
           f"{LIGHT.spectrum}, {LIGHT.lux:g} lux × {LIGHT.hours_per_day:g} h/day × "

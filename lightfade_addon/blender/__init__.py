@@ -7,10 +7,12 @@ groups and handlers; :func:`unregister` undoes them in reverse.  Neither touches
 import bpy
 
 from . import cache, cli_command, handlers, panels, properties
+from .bake import records as bake_records
 from .operators import CLASSES as _OPERATOR_CLASSES
 
 classes = (
     *properties.CLASSES,
+    *bake_records.CLASSES,
     *_OPERATOR_CLASSES,
     *panels.CLASSES,
 )
@@ -21,6 +23,7 @@ def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     properties.register_pointers()
+    bake_records.register_pointers()
     handlers.register()
     cache.register()
     cli_command.register()
@@ -31,6 +34,7 @@ def unregister():
     cli_command.unregister()
     cache.unregister()
     handlers.unregister()
+    bake_records.unregister_pointers()
     properties.unregister_pointers()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

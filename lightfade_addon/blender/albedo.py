@@ -14,6 +14,8 @@ by :class:`Restore`, also on error.
 from __future__ import annotations
 
 import contextlib
+import os
+import sys
 
 import bpy
 import numpy as np
@@ -54,6 +56,23 @@ class Restore(contextlib.AbstractContextManager):
         if errors and exc_type is None:
             raise errors[0]
         return False
+
+
+@contextlib.contextmanager
+def quiet_stdout():
+    """Silence stdout at the file-descriptor level: Cycles reports "Baking map saved to
+    internal image, save it externally or pack it" on every bake (LightFade packs it)."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, 1)
+        yield
+    finally:
+        sys.stdout.flush()
+        os.dup2(saved, 1)
+        os.close(saved)
+        os.close(devnull)
 
 
 def albedo_image(copy, shape):
@@ -196,9 +215,9 @@ def bake_albedos(scene, view_layer, obj, jobs, uv_map, margin=2):
                 _placeholder(restore, obj, slot)
         _settings(restore, scene, margin)
         _select_only(restore, view_layer, obj)
-        with bpy.context.temp_override(scene=scene, view_layer=view_layer,
-                                       active_object=obj, object=obj,
-                                       selected_objects=[obj], selected_editable_objects=[obj]):
+        with quiet_stdout(), bpy.context.temp_override(
+                scene=scene, view_layer=view_layer, active_object=obj, object=obj,
+                selected_objects=[obj], selected_editable_objects=[obj]):
             result = bpy.ops.object.bake(type="EMIT", uv_layer=uv_map, margin=margin,
                                          margin_type="EXTEND", use_clear=True,
                                          target="IMAGE_TEXTURES", save_mode="INTERNAL")

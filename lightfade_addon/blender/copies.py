@@ -45,6 +45,7 @@ def make_copy(obj, material, colour):
     copy.name = copy_name(material, obj)
     copy.use_fake_user = False
     props = copy.lightfade
+    props.slot_backups.clear()               # a copy of a copy starts with no backups
     props.source = material
     props.aged_object = obj
     tree = copy.node_tree

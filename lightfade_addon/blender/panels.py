@@ -6,8 +6,9 @@ import bpy
 from ..core.recipes import RECIPES, blue_wool_dose
 from .apply import aged_copies
 from .copies import original
-from .properties import RECIPE_IDS
+from .vocabulary import RECIPE_IDS
 from .source import material_plan
+from .bake.panel import draw_bake_panel
 from .stats import annual_dose, emitter_schedule, image_max
 from .status import copy_status
 
@@ -72,12 +73,7 @@ class VIEW3D_PT_lightfade_bake(LightFadeSidebarMixin, bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
-        props = context.scene.lightfade
-        col = layout.column(align=True)
-        col.prop(props, "bake_resolution")
-        col.prop(props, "bake_samples")
-        col.prop(props, "bake_margin")
-        layout.operator("lightfade.bake_exposure", icon="RENDER_STILL")
+        draw_bake_panel(layout, context)
 
         obj = context.object
         if obj is None or obj.type != "MESH" or not obj.lightfade.exposure_maps:

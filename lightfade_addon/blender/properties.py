@@ -15,9 +15,9 @@ Where the data lives
     enabled (the default).
 ``Material.lightfade`` (:class:`LIGHTFADE_PG_material`)
     The aging recipe of a material.
-``Object.lightfade`` (:class:`LIGHTFADE_PG_object`)
-    The exposure maps baked for a mesh, one per emitter
-    (:class:`LIGHTFADE_PG_exposure_map`), and the UV map they were baked on.
+``Object.lightfade`` and ``Scene.lightfade_bake``
+    The exposure maps of a mesh and the bake settings: :mod:`.bake.records` (registered
+    with the bake package).
 
 Exposure maps hold illuminance in lux (see :mod:`.bake` for the calibration); the annual
 dose of a texel is ``lux * hours_per_day * days_per_year`` lux·h.
@@ -36,90 +36,17 @@ from bpy.props import (
 )
 from bpy.types import PropertyGroup
 
-from ..core import recipes as _recipes
-from ..core import spectra as _spectra
 
-# ------------------------------------------------------------------- one vocabulary
-#
-# The UI's spectra and recipes are generated from the core's tables
-# (:data:`..core.spectra.LIGHTS`, :data:`..core.recipes.RECIPES`), so the words in the
-# interface are the data's own: a new light or recipe in the core appears here as is.
-
-
-def enum_id(core_name):
-    """The enum identifier of a core name: ``"daylight-glass"`` -> ``"DAYLIGHT_GLASS"``."""
-    return core_name.upper().replace("-", "_")
-
-
-def _label(core_name):
-    return core_name.replace("-", " ").title()
-
-
-#: Spectrum enum identifier -> the id the core uses for that light spectrum.
-SPECTRUM_IDS = {enum_id(name): name for name in _spectra.LIGHTS}
-
-#: What ``AUTO`` means for each emitter kind.  Sun, sky and emissive meshes stand for
-#: daylight entering a room through window glass; point, spot and area lamps are taken
-#: as modern white LEDs.
-AUTO_SPECTRUM = {
-    "SUN": "DAYLIGHT_GLASS",
-    "WORLD": "DAYLIGHT_GLASS",
-    "EMISSIVE": "DAYLIGHT_GLASS",
-    "POINT": "LED",
-    "SPOT": "LED",
-    "AREA": "LED",
-}
-
-SPECTRUM_ITEMS = (
-    ("AUTO", "Auto", "From the emitter type: sun, sky and emissive meshes: "
-     f"{_spectra.LIGHTS['daylight-glass']}; point, spot and area lamps: "
-     f"{_spectra.LIGHTS['led']}"),
-    *((key, _label(name), _spectra.LIGHTS[name]) for key, name in SPECTRUM_IDS.items()),
+from .vocabulary import (  # noqa: F401  (re-exported: the names scripts know)
+    AUTO_SPECTRUM,
+    EMITTER_KIND_ITEMS,
+    RECIPE_BLUE_WOOL,
+    RECIPE_IDS,
+    RECIPE_ITEMS,
+    SPECTRUM_IDS,
+    SPECTRUM_ITEMS,
+    resolve_spectrum,
 )
-
-EMITTER_KIND_ITEMS = (
-    ("SUN", "Sun", "A sun lamp"),
-    ("POINT", "Point", "A point lamp"),
-    ("SPOT", "Spot", "A spot lamp"),
-    ("AREA", "Area", "An area lamp"),
-    ("WORLD", "World", "The world background (sky light)"),
-    ("EMISSIVE", "Emissive Mesh", "A mesh with an emissive material"),
-)
-
-
-def resolve_spectrum(schedule, kind):
-    """The core's spectrum id for ``schedule`` on an emitter of ``kind``.
-
-    Parameters
-    ----------
-    schedule : LIGHTFADE_PG_schedule
-        The light schedule (its ``spectrum`` may be ``'AUTO'``).
-    kind : str
-        One of the :data:`EMITTER_KIND_ITEMS` identifiers.
-
-    Returns
-    -------
-    str
-        A key of :data:`..core.spectra.LIGHTS`.
-    """
-    spectrum = schedule.spectrum
-    if spectrum == "AUTO":
-        spectrum = AUTO_SPECTRUM.get(kind, "DAYLIGHT_GLASS")
-    return SPECTRUM_IDS[spectrum]
-
-
-#: Recipe enum identifier -> the id the core knows it by.
-RECIPE_IDS = {enum_id(name): name for name in _recipes.RECIPES}
-
-#: Blue Wool class a recipe starts from (ISO 105-B; 1 = very fugitive, 8 = very stable):
-#: the class of its most light-sensitive colourant in the core's recipe.
-RECIPE_BLUE_WOOL = {
-    key: int(min(k for k in _recipes.RECIPES[core_id].blue_wool if k is not None))
-    for key, core_id in RECIPE_IDS.items()
-}
-
-RECIPE_ITEMS = tuple((key, _label(name), _recipes.RECIPES[name].description)
-                     for key, name in RECIPE_IDS.items())
 
 
 def _on_recipe_changed(self, context):
@@ -295,55 +222,18 @@ class LIGHTFADE_PG_material(PropertyGroup):
     )
 
 
-class LIGHTFADE_PG_exposure_map(PropertyGroup):
-    """One baked exposure map: the illuminance (lux) one emitter gives each texel."""
-
-    # ``name`` (inherited) is the emitter name too, so that ``maps["Sun"]`` works.
-    emitter: StringProperty(
-        name="Emitter",
-        description="Light object name, \"World\", or emissive object name this map was baked for",
-    )
-    emitter_kind: EnumProperty(
-        name="Emitter Kind",
-        description="Type of the emitter this map was baked for",
-        items=EMITTER_KIND_ITEMS,
-        default="SUN",
-    )
-    image: PointerProperty(
-        name="Exposure Image",
-        type=bpy.types.Image,
-        description="Float image (packed) holding illuminance in lux per texel while the emitter is on",
-    )
-
-
-class LIGHTFADE_PG_object(PropertyGroup):
-    """Exposure maps baked for a mesh object."""
-
-    exposure_maps: CollectionProperty(
-        type=LIGHTFADE_PG_exposure_map,
-        name="Exposure Maps",
-        description="One illuminance map per emitter (lamp, world, emissive mesh)",
-    )
-    active_map_index: IntProperty(
-        name="Active Exposure Map",
-        description="Index of the exposure map shown in the panel list",
-        default=0,
-        min=0,
-    )
-    uv_map: StringProperty(
-        name="UV Map",
-        description="UV map the exposure maps were baked on (the aged textures must use the same one)",
-    )
-
-
 #: Callables ``fn(scene)`` run when the years slider changes to a valid value.  The
 #: handlers module adds itself on register, so this module imports nothing of the shell.
 YEARS_LISTENERS = []
 
 
+#: Blender stores an infinite float property as the largest float32: that is "inf" too.
+_FLOAT32_MAX = 3.0e38
+
+
 def valid_years(years):
-    """True for a finite number >= 0."""
-    return years == years and 0.0 <= years < float("inf")
+    """True for a finite number >= 0 (a property set to infinity holds ~3.4e38)."""
+    return years == years and 0.0 <= years < _FLOAT32_MAX
 
 
 def _on_years_changed(self, context):
@@ -351,6 +241,7 @@ def _on_years_changed(self, context):
     # frame-change handler instead: update callbacks do not fire for F-curves).
     if not valid_years(self.years):
         bad, self.years = self.years, self.last_valid_years      # refused, value kept
+        bad = float("inf") if bad >= _FLOAT32_MAX else bad
         print(f"LightFade: years must be a finite number >= 0, got {bad!r}; "
               f"kept {self.last_valid_years:g}")
         return
@@ -413,8 +304,6 @@ CLASSES = (
     LIGHTFADE_PG_schedule,
     LIGHTFADE_PG_slot_backup,
     LIGHTFADE_PG_material,
-    LIGHTFADE_PG_exposure_map,
-    LIGHTFADE_PG_object,
     LIGHTFADE_PG_scene,
 )
 
@@ -425,7 +314,6 @@ POINTERS = (
     (bpy.types.World, "lightfade", LIGHTFADE_PG_schedule),
     (bpy.types.Object, "lightfade_emitter", LIGHTFADE_PG_schedule),
     (bpy.types.Material, "lightfade", LIGHTFADE_PG_material),
-    (bpy.types.Object, "lightfade", LIGHTFADE_PG_object),
 )
 
 

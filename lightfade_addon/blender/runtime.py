@@ -26,7 +26,7 @@ from .errors import AgingError
 from .exposure import exposure_signature, lights_and_exposure
 from .grids import SceneGridStore
 from .pixels import read_linear, read_rgba
-from .properties import RECIPE_IDS
+from .vocabulary import RECIPE_IDS
 
 #: Smallest prepared range: the slider's soft maximum.
 MIN_PREPARED_YEARS = 100.0

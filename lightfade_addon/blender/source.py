@@ -191,7 +191,7 @@ def _uvs_in_unit_square(mesh, uv_name):
 
 def _direct_refusal(obj, node, image):
     """Why an image straight into Base Color cannot be read directly, or None."""
-    if image.source not in ("FILE", "GENERATED") or image.source == "TILED":
+    if image.source not in ("FILE", "GENERATED"):
         return f"image '{image.name}' is a {image.source.lower()}"
     if node.projection != "FLAT":
         return f"image node '{node.name}' uses {node.projection.lower()} projection"
@@ -212,10 +212,11 @@ def _direct_refusal(obj, node, image):
     return None
 
 
-def material_plan(scene, obj, material):
+def material_plan(scene, obj, material, need_exposure=True):
     """The :class:`Plan` of ``material`` on ``obj``: albedo path, reason and problems.
 
     Runs no Cycles work; every problem found is listed (object, material, what to do).
+    With ``need_exposure=False`` (before a bake) a missing exposure is not a problem.
     """
     plan = Plan()
     if obj.type != "MESH":
@@ -229,7 +230,7 @@ def material_plan(scene, obj, material):
         plan.problems.append(f"Material '{material.name}' is linked from a library: make it "
                              "local first (Object > Relations > Make Local)")
     missing = exposure_problem(scene, obj)
-    if missing:
+    if missing and need_exposure:
         plan.problems.append(missing)
     colour, problem = find_colour_socket(material)
     if problem:

@@ -34,17 +34,23 @@ def targets(scene, selected=()):
     return pairs
 
 
-def check(scene, pairs):
+def check(scene, pairs, need_exposure=True):
     """``(plans, problems)``: the :class:`.source.Plan` of every pair, and every problem
     found (each one line naming the object or material and what to do), in order."""
     plans, problems = {}, []
     for obj, material in pairs:
-        plan = material_plan(scene, obj, material)
+        plan = material_plan(scene, obj, material, need_exposure)
         plans[obj, material] = plan
         for problem in plan.problems:
             if problem not in problems:
                 problems.append(problem)
     return plans, problems
+
+
+def material_problems(scene, objects=()):
+    """Every material problem Age would refuse that no bake can fix (for the Bake
+    operator to report, together with its own checks, before any Cycles work)."""
+    return check(scene, targets(scene, objects), need_exposure=False)[1]
 
 
 def format_problems(problems):

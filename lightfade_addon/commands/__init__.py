@@ -25,11 +25,18 @@ import importlib
 import math
 import pkgutil
 
-__all__ = ["UserError", "discover", "number"]
+__all__ = ["UserError", "ArgumentParser", "discover", "number"]
 
 
 class UserError(Exception):
     """A problem with the user's input: reported as one line, exit status 2."""
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse with one-line errors: ``lightfade: error: ...`` and exit status 2."""
+
+    def error(self, message):
+        self.exit(2, f"lightfade: error: {message} (see: {self.prog} --help)\n")
 
 
 def discover():

@@ -15,6 +15,7 @@ colour, the paper's reference "without selective interpolation"). See
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import pathlib
 import time
@@ -75,6 +76,15 @@ def add_arguments(parser):
     model.add_argument("--recipe", default=d["recipe"], choices=list(RECIPES), metavar="NAME",
                        help=f"material recipe (default: {d['recipe']}); one of: "
                             + "; ".join(f"{k} ({r.description})" for k, r in RECIPES.items()))
+    model.add_argument("--kinetics", default="first-order", choices=("first-order", "paper"),
+                       help="rate law of the fading: first-order (default; each dye "
+                            "molecule fades at its own rate, as in conservation practice) "
+                            "or paper (equation 3 as printed, fade rate ~ concentration²)")
+    model.add_argument("--restore", metavar="YEARS", type=number("years"),
+                       help="the photo is already YEARS old under the light and schedule "
+                            "given: first estimate it new (writes PHOTO_restored and "
+                            "PHOTO_lost.png, white where fading destroyed the colour), then "
+                            "age from new (--years 0 is the restored image)")
     model.add_argument("--exact", action="store_true",
                        help="reference path: simulate every distinct colour directly "
                             "instead of interpolating the mixture grid (slower)")
@@ -148,16 +158,40 @@ def _write(path, rgb, alpha, dtype, metadata=None):
 # -- the command ---------------------------------------------------------------------------
 
 
+def _restore(rgb, alpha, info, years, recipe, light, exposure, base, encoding):
+    """Restore an already-old photo; write ``<base>_restored`` and ``<base>_lost.png``."""
+    from ..core.restore import restore
+    from ..progress import ProgressBar
+
+    with ProgressBar("restore") as bar:
+        try:
+            result = restore(np.clip(rgb, 0.0, 1.0), years, recipe, [light], exposure,
+                             encoding=encoding, progress=bar)
+        except ValueError as exc:
+            raise UserError(str(exc)) from None
+    suffix = ".exr" if info.dtype in ("half", "float") else ".png"
+    restored = base.with_name(base.name + "_restored" + suffix)
+    lost = base.with_name(base.name + "_lost.png")
+    _write(restored, result.image, alpha, info.dtype, info.metadata)
+    _write(lost, np.repeat(result.lost[..., None], 3, -1).astype(np.float32), None, "uint8")
+    share = result.lost_count / max(result.lost.size, 1)
+    print(f"restored {years:g} y of {format_dose(years * light.annual_dose)} Mlx·h: "
+          f"{result.lost_count} pixels ({share:.1%}) lost, shown white in {lost}")
+    return result.image
+
+
 def run(args):
     from ..contact_sheet import contact_sheet, thumbnail
     from ..core.aging import Light, TextureAger, age_image_exact
     from ..core.colorimetry import srgb_encode
+    from ..core.recipes import RECIPES
     from ..progress import ProgressBar
 
     t_start = time.perf_counter()
     years = parse_years(args.years)
     lux, hours, days = args.lux, args.hours_per_day, args.days_per_year
     light = Light(args.light, args.uv_filter, lux, hours, days)
+    recipe = dataclasses.replace(RECIPES[args.recipe], kinetics=args.kinetics)
 
     photo = pathlib.Path(args.photo)
     rgb, alpha, info = _read(photo)
@@ -191,6 +225,10 @@ def run(args):
         raise UserError(f"cannot create output folder {str(out_dir)!r}: "
                         f"{exc.strerror or exc}") from None
 
+    if args.restore is not None:
+        rgb = _restore(rgb, alpha, info, args.restore, recipe, light, exposure,
+                       out_dir / photo.stem, encoding)
+
     schedule = f"{lux:g} lux × {hours:g} h/day × {days:g} days/year"
     print(f"{photo.name}: {info.width}×{info.height}, {info.bits}-bit {info.format} "
           f"{info.mode} ({encoding}); recipe {args.recipe}, light {args.light}"
@@ -209,11 +247,11 @@ def run(args):
             aged = [rgb] * len(values)
         elif args.exact:
             with ProgressBar("exact") as bar:
-                aged = age_image_exact(albedo, values, args.recipe, light, exposure,
+                aged = age_image_exact(albedo, values, recipe, light, exposure,
                                        encoding=encoding, progress=bar)
         else:
             with ProgressBar("grid") as bar:
-                ager = TextureAger(albedo, args.recipe, [light], exposure,
+                ager = TextureAger(albedo, recipe, [light], exposure,
                                    max_years=max(values), encoding=encoding, progress=bar)
             aged = (ager.age(y) for y in values)
     except ValueError as exc:

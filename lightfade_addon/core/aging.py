@@ -15,62 +15,25 @@ so texture detail survives, and at zero years the original comes back exactly.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
+from .cache import load_or_build
 from .colorimetry import linear_srgb_to_XYZ, srgb_decode, srgb_encode, XYZ_to_linear_srgb
-from .grid import GridSettings, load_or_build, simplex_interpolation
+from .gamut import encode_in_gamut, into_gamut, out_of_gamut
+from .grid import GridSettings
+from .lattice import simplex_interpolation
+from .lights import HOURS_PER_YEAR_DEFAULT, Light, dose_rates, spectra_keys
 from .recipes import Recipe, get_recipe
+from .restore import Prior, log_initial, restore
 from .spectra import WAVELENGTHS, light_spectrum
+from .texels import texel_concentrations
 from .unmix import get_unmixer
 
-__all__ = ["Light", "TextureAger", "age_image", "age_image_exact", "HOURS_PER_YEAR_DEFAULT"]
+__all__ = ["Light", "Prior", "TextureAger", "age_image", "age_image_exact",
+           "HOURS_PER_YEAR_DEFAULT"]
 
 #: Texels updated per block in :meth:`TextureAger.age` (bounds the temporaries).
 _BLOCK = 1 << 18
-#: Most distinct colours unmixed per texture; more are merged by dropping bits.
-_MAX_KEYS = 1 << 16
-HOURS_PER_YEAR_DEFAULT = 8.0 * 365.0
-
-
-@dataclass(frozen=True)
-class Light:
-    """A light's spectrum and schedule.
-
-    Attributes
-    ----------
-    spectrum : str
-        A :data:`.spectra.LIGHTS` name, e.g. ``"daylight-glass"``.
-    uv_filter : bool
-        Behind a UV filter.
-    lux : float
-        Illuminance where the exposure map is 1 (with absolute maps in lux, 1).
-    hours_per_day, days_per_year : float
-        When the light is on.
-    """
-
-    spectrum: str = "daylight-glass"
-    uv_filter: bool = False
-    lux: float = 150.0
-    hours_per_day: float = 8.0
-    days_per_year: float = 365.0
-
-    def __post_init__(self):
-        for name in ("lux", "hours_per_day", "days_per_year"):
-            v = getattr(self, name)
-            if not np.isfinite(v) or v < 0:
-                raise ValueError(f"light {name} must be a finite number >= 0, got {v!r}")
-        if self.hours_per_day > 24 or self.days_per_year > 366:
-            raise ValueError("a light cannot be on more than 24 h a day or 366 days a year")
-
-    @property
-    def annual_dose(self):
-        """lux·h per year where the exposure is 1."""
-        return self.lux * self.hours_per_day * self.days_per_year
-
-    def spectrum_1lux(self, wavelengths=WAVELENGTHS):
-        return light_spectrum(self.spectrum, wavelengths, self.uv_filter)
 
 
 def _blockwise(a, fn, block=_BLOCK):
@@ -81,59 +44,16 @@ def _blockwise(a, fn, block=_BLOCK):
     return out
 
 
+def _in_range(rgb, encoding):
+    """``rgb`` itself when inside [0, 1], else a copy mapped in by the gamut rule."""
+    if not out_of_gamut(rgb).any():
+        return rgb
+    lin = rgb if encoding == "linear" else srgb_decode(np.clip(rgb, 0.0, None))
+    return encode_in_gamut(np.array(lin, dtype=np.float32), encoding).astype(np.float32)
+
+
 def _as_recipe(recipe):
     return get_recipe(recipe) if isinstance(recipe, str) else recipe
-
-
-def _spectra_keys(lights):
-    """Distinct (spectrum, uv_filter) pairs, in order of first appearance."""
-    keys = []
-    for light in lights:
-        k = (light.spectrum, light.uv_filter)
-        if k not in keys:
-            keys.append(k)
-    return keys
-
-
-def _dose_rates(lights, exposure, n, keys):
-    """Per-texel annual dose per distinct spectrum, (S, n) float32 lux·h a year."""
-    rates = np.zeros((len(keys), n), dtype=np.float32)
-    if exposure is not None:
-        exposure = np.asarray(exposure)
-        if exposure.size not in (n, n * len(lights)):
-            raise ValueError(f"exposure must have one value per texel ({n}) or one map per "
-                             f"light ({len(lights)} × {n}), got shape {exposure.shape}")
-        exposure = exposure.reshape((1, n) if exposure.size == n else (len(lights), n))
-    for k, light in enumerate(lights):
-        row = rates[keys.index((light.spectrum, light.uv_filter))]
-        if exposure is None:
-            row += np.float32(light.annual_dose)
-            continue
-        e = exposure[0 if exposure.shape[0] == 1 else k]
-        if not np.all(np.isfinite(e)) or np.any(e < 0):
-            raise ValueError("exposure must be finite and >= 0")
-        row += e.astype(np.float32) * np.float32(light.annual_dose)
-    return rates
-
-
-def _colour_keys(rgb_encoded):
-    """Distinct colours (8 bits per channel, fewer if too many): (inverse, colours).
-
-    ``rgb_encoded`` (n, 3) in [0, 1]; returns the index of each texel's colour and the
-    (U, 3) colours (bin centres, encoded sRGB).
-    """
-    q = [np.clip(np.rint(rgb_encoded[:, ch] * 255.0), 0, 255).astype(np.int32)
-         for ch in range(3)]
-    for drop in range(0, 5):
-        code = ((q[0] >> drop) << 16) | ((q[1] >> drop) << 8) | (q[2] >> drop)
-        keys, inverse = np.unique(code, return_inverse=True)
-        del code
-        if keys.size <= _MAX_KEYS:
-            break
-    scale = 1 << drop
-    colours = np.stack([(keys >> 16) & 255, (keys >> 8) & 255, keys & 255], -1)
-    colours = (colours * scale + (scale - 1) / 2.0) / 255.0      # bin centres
-    return inverse.astype(np.int32), np.clip(colours, 0.0, 1.0)
 
 
 class TextureAger:
@@ -161,12 +81,22 @@ class TextureAger:
         Use the on-disk grid cache.
     progress : callable(fraction, message), optional
     store : MutableMapping[str, bytes], optional
-        Grid store consulted before the disk cache (see :func:`.grid.load_or_build`).
+        Grid store consulted before the disk cache (see :func:`.cache.load_or_build`).
+    prior : Prior, optional
+        The texture is already old (:class:`.restore.Prior`: years, lights,
+        exposure): it is first restored to new (:func:`.restore.restore`), and
+        :meth:`age` ages from new, so 0 years is the restored texture. The lost
+        pixels are in :attr:`lost`.
+
+    Attributes
+    ----------
+    lost : ndarray of bool or None
+        With ``prior``: texels whose original colour the prior light destroyed.
     """
 
     def __init__(self, rgb, recipe, lights, exposure=None, *, max_years=100.0,
                  encoding="linear", settings=GridSettings(), cache=True, progress=None,
-                 store=None):
+                 store=None, prior=None):
         self.recipe = _as_recipe(recipe)
         if not isinstance(self.recipe, Recipe):
             raise TypeError("recipe must be a Recipe or a recipe name")
@@ -180,19 +110,29 @@ class TextureAger:
         if not lights:
             raise ValueError("at least one light is needed")
         if not (np.isfinite(max_years) and max_years > 0):
-            raise ValueError(f"max_years must be > 0, got {max_years!r}")
+            raise ValueError(f"max_years must be a finite number > 0, got {max_years!r}")
         self.shape = rgb.shape
         self.encoding = encoding
         self.max_years = float(max_years)
-        self.original = rgb
-        flat = rgb.reshape(-1, 3)
-        n = flat.shape[0]
         say = progress or (lambda f, m: None)
+        self.lost = None
+        if prior is not None:
+            restored = restore(rgb, prior.years, self.recipe, prior.lights, prior.exposure,
+                               encoding, settings, cache, store,
+                               lambda f, m: say(0.3 * f, f"restoring: {m}"))
+            rgb, self.lost = restored.image, restored.lost
+            outer = say
 
-        spectra_keys = _spectra_keys(lights)
-        rates = _dose_rates(lights, exposure, n, spectra_keys)          # (S, n) float32
+            def say(f, m):
+                outer(0.3 + 0.7 * f, m)
+        self.original = _in_range(rgb, encoding)
+        flat = self.original.reshape(-1, 3)
+        n = flat.shape[0]
+
+        keys = spectra_keys(lights)
+        rates = dose_rates(lights, exposure, n, keys)          # (S, n) float32
         self.rate = rates.sum(axis=0)                                   # lux·h per year
-        self.spectra = np.stack([light_spectrum(s, WAVELENGTHS, uv) for s, uv in spectra_keys])
+        self.spectra = np.stack([light_spectrum(s, WAVELENGTHS, uv) for s, uv in keys])
 
         max_dose = max(float(self.rate.max()) * self.max_years, 1.0)
         say(0.0, "building the fading grid")
@@ -200,11 +140,12 @@ class TextureAger:
                                   progress=lambda f, m: say(0.6 * f, m), store=store)
 
         say(0.6, "unmixing colours")
-        key, colours = _colour_keys(flat if encoding == "srgb" else
-                                    _blockwise(flat, lambda b: srgb_encode(np.clip(b, 0, 1))))
-        c = get_unmixer(self.recipe).unmix(colours, encoded=True, refine=2)
-        say(0.85, f"change curves for {colours.shape[0]} colours")
-        curves = self.grid.curves(c)                                  # (U, M, T, 3)
+        unmixer = get_unmixer(self.recipe)
+        key, c = texel_concentrations(
+            flat if encoding == "srgb" else
+            _blockwise(flat, lambda b: srgb_encode(np.clip(b, 0, 1))), unmixer)
+        say(0.85, f"change curves for {c.shape[0]} colours")
+        curves = self.grid.curves(c, log_initial(self.grid, unmixer, c))     # (U, M, T, 3)
         U, M, T, _ = curves.shape
         # Planar table over (colour, mix node, dose interval): the change at the
         # interval's start and its increment, so a texel needs a + f * d.
@@ -218,16 +159,16 @@ class TextureAger:
         del curves, start, step
         self._T = T
         key *= M * (T - 1)
-        if len(spectra_keys) == 1:
+        if len(keys) == 1:
             self._offsets = key[None]
             self._weights = None
         else:
-            self._offsets = np.empty((len(spectra_keys), n), dtype=np.int32)
-            self._weights = np.empty((len(spectra_keys), n), dtype=np.float32)
+            self._offsets = np.empty((len(keys), n), dtype=np.int32)
+            self._weights = np.empty((len(keys), n), dtype=np.float32)
             for s0 in range(0, n, _BLOCK):
                 s1 = min(s0 + _BLOCK, n)
                 total = self.rate[s0:s1]
-                mix = np.where(total > 0, rates[:, s0:s1] / np.maximum(total, 1e-30), 0.0).T
+                mix = np.where(total > 0, rates[:, s0:s1] / np.maximum(total, 1e-30), np.float32(0.0)).T
                 mix[total <= 0, 0] = 1.0
                 nodes, weights = simplex_interpolation(mix, self.grid.q)
                 self._offsets[:, s0:s1] = key[s0:s1] + nodes.T * (T - 1)
@@ -284,7 +225,9 @@ class TextureAger:
     def age(self, years, out=None):
         """The texture after ``years`` (float32, same shape and encoding as the input).
 
-        Zero years returns the original exactly. With ``out`` an (n, 4) float32
+        Aged colours are mapped into [0, 1] keeping hue (:func:`.gamut.into_gamut`,
+        the rule of every path). Zero years returns the original exactly (as
+        mapped into [0, 1] on construction). With ``out`` an (n, 4) float32
         array (Blender's RGBA pixel layout), the colour is written into its first
         three channels and the fourth is left alone.
         """
@@ -304,10 +247,10 @@ class TextureAger:
             XYZ *= self._XYZ[:, s0:s1]
             target = res[s0:s1, :3] if rgba else res.reshape(n, 3)[s0:s1]
             if self.encoding == "srgb":
-                rgb = self._to_rgb @ XYZ
-                target[:] = srgb_encode(np.clip(rgb, 0.0, 1.0)).T
+                target[:] = encode_in_gamut((self._to_rgb @ XYZ).T, "srgb")
             else:
                 np.matmul(XYZ.T, self._to_rgb.T, out=target)        # straight into RGBA
+                into_gamut(target, out=target)
         return res if rgba else res.reshape(self.shape)
 
 
@@ -323,75 +266,9 @@ def age_image(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=No
     return [ager.age(y) for y in years]
 
 
-def age_image_exact(rgb, years, recipe="printed-paper", light=Light(), exposure=None,
-                    encoding="srgb", levels=64, progress=None):
-    """Age an image without the grid: one simulation per distinct colour (the reference).
+def __getattr__(name):
+    if name == "age_image_exact":          # the reference path lives in .exact
+        from .exact import age_image_exact
 
-    Distinct colours (as in :class:`TextureAger`) are unmixed the same way and each
-    is simulated directly at the recipe's solver settings, recording every requested
-    dose; the exposure map is quantised to ``levels`` levels (one batch each).
-    Only one light spectrum (one :class:`Light`).
-
-    Returns
-    -------
-    list of ndarray
-        One image per entry of ``years``, like ``rgb``.
-    """
-    from .colorimetry import reflectance_to_XYZ
-    from .fading import simulate
-
-    recipe = _as_recipe(recipe)
-    years = np.array([float(y) for y in np.atleast_1d(years)])
-    if np.any(~np.isfinite(years)) or np.any(years < 0):
-        raise ValueError("years must be finite numbers >= 0")
-    rgb = np.asarray(rgb, dtype=np.float32)
-    flat = rgb.reshape(-1, 3)
-    n = flat.shape[0]
-    say = progress or (lambda f, m: None)
-    e = np.ones(n) if exposure is None else np.asarray(exposure, float).reshape(n)
-    if not np.all(np.isfinite(e)) or np.any(e < 0):
-        raise ValueError("exposure must be finite and >= 0")
-    emax = float(e.max()) if e.size else 0.0
-    level = np.zeros(n, dtype=np.int64) if emax == 0 else \
-        np.rint(e / emax * (levels - 1)).astype(np.int64)
-    enc = np.clip(flat if encoding == "srgb" else srgb_encode(np.clip(flat, 0, 1)), 0, 1)
-    key, colours = _colour_keys(enc)
-    c_unmixed = get_unmixer(recipe).unmix(colours, encoded=True, refine=2)
-    A, S, ground = recipe.optics()
-    base = recipe.base_concentrations()
-    E0 = light.spectrum_1lux()
-    lin = srgb_decode(flat) if encoding == "srgb" else flat
-    XYZ = linear_srgb_to_XYZ(lin)
-    ratio = np.ones((years.size, n, 3))
-    groups = np.unique(level)
-    for g_i, g in enumerate(groups):
-        say(g_i / groups.size, f"simulating exposure level {g_i + 1}/{groups.size}")
-        texels = np.nonzero(level == g)[0]
-        dose_rate = light.annual_dose * (g / (levels - 1) * emax if emax else 0.0)
-        doses = years * dose_rate
-        if dose_rate == 0 or not np.any(doses > 0):
-            continue
-        used, inverse = np.unique(key[texels], return_inverse=True)
-        conc = np.tile(base, (used.size, 1))
-        for k, name in enumerate(recipe.unmixed):
-            conc[:, recipe.index(name)] = c_unmixed[used, k]
-        positive = np.unique(doses[doses > 0])
-        r = simulate(A, S, conc, recipe.sensitivity(), E0, ground, WAVELENGTHS,
-                     thickness=recipe.thickness, duration=positive[-1], record=positive,
-                     yields=recipe.yield_matrix(), **recipe.solver())
-        X0 = np.maximum(reflectance_to_XYZ(r.initial, WAVELENGTHS), 1e-6)
-        for y_i, d in enumerate(doses):
-            if d > 0:
-                Xd = np.maximum(reflectance_to_XYZ(r.history[np.searchsorted(positive, d)],
-                                                   WAVELENGTHS), 1e-6)
-                ratio[y_i, texels] = (Xd / X0)[inverse]
-    say(1.0, "done")
-    out = []
-    for y_i, y in enumerate(years):
-        if y == 0:
-            out.append(rgb.copy())
-            continue
-        lin_aged = XYZ_to_linear_srgb(XYZ * ratio[y_i])
-        res = srgb_encode(np.clip(lin_aged, 0, 1)) if encoding == "srgb" else lin_aged
-        out.append(res.astype(np.float32).reshape(rgb.shape))
-    return out
+        return age_image_exact
+    raise AttributeError(name)

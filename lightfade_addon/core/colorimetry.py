@@ -60,21 +60,17 @@ def _hat_basis(lam, wavelengths):
     """(len(lam), W) matrix of the linear-interpolation hat functions at ``lam``.
 
     Row ``j`` holds the weights with which the samples of a piecewise-linear spectrum
-    combine to its value at ``lam[j]``; outside the sample range the end values are
-    held (``np.interp`` semantics).
+    combine to its value at ``lam[j]``: the degree-1 B-spline through the identity
+    (``scipy.interpolate.make_interp_spline``), so that column ``k`` is the hat of
+    sample ``k``. Outside the sample range the end values are held.
     """
+    from scipy.interpolate import make_interp_spline
+
     w = np.asarray(wavelengths, dtype=float)
-    H = np.zeros((lam.size, w.size))
     if w.size == 1:
-        H[:, 0] = 1.0
-        return H
-    x = np.clip(lam, w[0], w[-1])
-    k = np.clip(np.searchsorted(w, x, side="right") - 1, 0, w.size - 2)
-    t = (x - w[k]) / (w[k + 1] - w[k])
-    rows = np.arange(lam.size)
-    H[rows, k] = 1.0 - t
-    H[rows, k + 1] += t
-    return H
+        return np.ones((lam.size, 1))
+    hats = make_interp_spline(w, np.eye(w.size), k=1)
+    return hats(np.clip(lam, w[0], w[-1]))
 
 
 @lru_cache(maxsize=64)
@@ -149,22 +145,14 @@ def reflectance_to_XYZ(R, wavelengths, illuminant="D65"):
     return np.asarray(R, dtype=float) @ xyz_weights(wavelengths, illuminant)
 
 
-_LAB_EPSILON = 216.0 / 24389.0
-_LAB_KAPPA = 24389.0 / 27.0
+@lru_cache(maxsize=None)
+def _white_xy(illuminant):
+    """Chromaticity of :func:`white_XYZ`, the form colour-science takes a white in."""
+    import colour
 
-
-def _f_lab(t):
-    """CIELAB's f(t): cube root above epsilon, the linear segment below (in place)."""
-    f = np.cbrt(t)
-    low = t <= _LAB_EPSILON
-    if low.any():
-        f[low] = (_LAB_KAPPA * t[low] + 16.0) / 116.0
-    return f
-
-
-#: (L, a, b) = f(X/Xn, Y/Yn, Z/Zn) @ _LAB_MATRIX + _LAB_OFFSET
-_LAB_MATRIX = np.array([[0.0, 500.0, 0.0], [116.0, -500.0, 200.0], [0.0, 0.0, -200.0]])
-_LAB_OFFSET = np.array([-16.0, 0.0, 0.0])
+    xy = np.array(colour.XYZ_to_xy(white_XYZ(illuminant)), dtype=float)
+    xy.flags.writeable = False
+    return xy
 
 
 def XYZ_to_Lab(XYZ, illuminant="D65"):
@@ -176,15 +164,20 @@ def XYZ_to_Lab(XYZ, illuminant="D65"):
         Tristimulus values with Y of white = 1.
     illuminant : str
         Illuminant key; the white is :func:`white_XYZ` of it (the same integration as
-        the reflectance, so that R = 1 gives exactly (100, 0, 0)).
+        the reflectance, so that R = 1 gives (100, 0, 0)).
 
     Returns
     -------
     ndarray, shape (..., 3)
         L* in [0, 100] for reflective colours, a* and b*.
+
+    Notes
+    -----
+    ``colour.XYZ_to_Lab`` (CIE 15:2004, equations 8.3–8.7) with the white's chromaticity.
     """
-    f = _f_lab(np.asarray(XYZ, dtype=float) / white_XYZ(illuminant))
-    return f @ _LAB_MATRIX + _LAB_OFFSET
+    import colour
+
+    return colour.XYZ_to_Lab(np.asarray(XYZ, dtype=float), _white_xy(illuminant))
 
 
 def reflectance_to_Lab(R, wavelengths, illuminant="D65"):
@@ -241,26 +234,33 @@ def reflectance_to_linear_srgb(R, wavelengths):
 def srgb_encode(linear):
     """The sRGB transfer function (IEC 61966-2-1): linear [0, 1] -> encoded [0, 1].
 
-    Values below 0 follow the linear segment; no clipping.
+    ``colour.models.eotf_inverse_sRGB``; values below 0 follow the linear segment, no
+    clipping.
     """
-    x = np.asarray(linear, dtype=float)
-    return np.where(
-        x <= 0.0031308, 12.92 * x, 1.055 * np.power(np.maximum(x, 0.0031308), 1 / 2.4) - 0.055
-    )
+    from colour.models import eotf_inverse_sRGB
+
+    return eotf_inverse_sRGB(np.asarray(linear, dtype=float))
 
 
 def srgb_decode(encoded):
-    """The inverse sRGB transfer function: encoded [0, 1] -> linear [0, 1]."""
-    v = np.asarray(encoded, dtype=float)
-    return np.where(
-        v <= 0.04045, v / 12.92, np.power((np.maximum(v, 0.04045) + 0.055) / 1.055, 2.4)
-    )
+    """The inverse sRGB transfer function: encoded [0, 1] -> linear [0, 1].
+
+    ``colour.models.eotf_sRGB`` (IEC 61966-2-1).
+    """
+    from colour.models import eotf_sRGB
+
+    return eotf_sRGB(np.asarray(encoded, dtype=float))
 
 
 def delta_E_ab(Lab1, Lab2):
-    """CIE 1976 colour difference ΔE*ab (the paper's metric); (..., 3) -> (...)."""
-    d = np.asarray(Lab1, dtype=float) - np.asarray(Lab2, dtype=float)
-    return np.sqrt(np.sum(d * d, axis=-1))
+    """CIE 1976 colour difference ΔE*ab (the paper's metric); (..., 3) -> (...).
+
+    ``colour.delta_E(..., method="CIE 1976")``, the Euclidean distance in CIELAB.
+    """
+    import colour
+
+    Lab1, Lab2 = np.broadcast_arrays(np.asarray(Lab1, float), np.asarray(Lab2, float))
+    return np.asarray(colour.delta_E(Lab1, Lab2, method="CIE 1976"), dtype=float)
 
 
 def delta_E_2000(Lab1, Lab2):

@@ -6,17 +6,27 @@ its absorption and scattering coefficients are ``mu_a = f A_j`` and ``mu_s = f S
 (``A_j``, ``S_j`` per unit thickness at full concentration) and the layer has
 ``K = sum_j mu_a``, ``S = sum_j mu_s``. At each time step the fluence rate ``F`` is
 evaluated through the stack (equations 1–2, :mod:`.flux`), held constant over the
-step, and every colourant in every layer decays as::
+step, and every colourant in every layer decays.
 
-    f(t + dt) = f(t) exp(-dt * integral(beta mu_a F dlambda))        (3)
+Two rate laws (``kinetics``):
 
-while ``mu_a`` and ``mu_s`` scale by the same ratio (4)–(5). ``mu_a`` in (3) is the
-colourant's current absorption coefficient ``f(t) A_j``: what fades is what absorbs.
+``"first-order"`` (the default)
+    ``f(t + dt) = f(t) exp(-dt * beta * integral(A_j F dlambda))``: each molecule is
+    destroyed at a rate set by its own absorption cross-section, ``df/dt = -k f``
+    (photochemistry; the CCI Light Damage Calculator's ``exp(-D/K)``). The
+    concentration enters only through the shielding of ``F`` by the layers above.
+``"paper"``
+    Equation (3) as printed, ``f(t + dt) = f(t) exp(-dt * integral(beta mu_a F
+    dlambda))`` with ``mu_a = f(t) A_j`` the colourant's *current* coefficient, so
+    ``df/dt`` is proportional to ``f**2``.
 
-Two schemes are offered:
+In both, ``mu_a`` and ``mu_s`` scale by the same ratio as ``f`` (4)–(5).
+
+Two time-stepping schemes are offered:
 
 ``"paper"``
-    Equation (3) exactly: one flux solve per step; first order in the step.
+    The rates held over the step: one flux solve per step; first order in the
+    step. With ``kinetics="paper"`` this is equations (1)–(5) exactly.
 ``"heun"``
     An exponential predictor–corrector: predict with (3), solve the fluxes again
     at the predicted state, and take the step with the mean of the two rates.
@@ -38,10 +48,12 @@ import numpy as np
 
 from .layered import LayeredStack, trapezoid_weights
 
-__all__ = ["simulate", "SimulationResult", "SCHEMES", "trapezoid_weights"]
+__all__ = ["simulate", "SimulationResult", "SCHEMES", "KINETICS", "trapezoid_weights"]
 
 #: Time-stepping schemes, by name (see the module docstring).
 SCHEMES = ("paper", "heun")
+#: Rate laws, by name (see the module docstring); the first is the default.
+KINETICS = ("first-order", "paper")
 
 #: Columns (samples × wavelengths) per chunk; large enough that numpy's per-call
 #: overhead is small against the work of one sweep row.
@@ -108,7 +120,7 @@ def _positive_int(name, value):
 
 def _check_inputs(absorption, scattering, concentrations, sensitivity, irradiance,
                   substrate, wavelengths, thickness, duration, layers, steps, scheme,
-                  yields, record):
+                  kinetics, yields, record):
     lam = _array("wavelengths", wavelengths, 1)
     if lam.size < 1 or np.any(np.diff(lam) <= 0):
         raise ValueError("wavelengths must be strictly increasing")
@@ -140,6 +152,8 @@ def _check_inputs(absorption, scattering, concentrations, sensitivity, irradianc
     steps = _positive_int("steps", steps)
     if scheme not in SCHEMES:
         raise ValueError(f"scheme must be one of {SCHEMES}, got {scheme!r}")
+    if kinetics not in KINETICS:
+        raise ValueError(f"kinetics must be one of {KINETICS}, got {kinetics!r}")
     Y = None
     if yields is not None:
         Y = _nonnegative("yields", _array("yields", yields, 2))
@@ -178,8 +192,10 @@ def _time_grid(duration, steps, record):
 
 def _run_job(job):
     """One chunk of samples, start to end (module level, so that it pickles)."""
-    (A, S, beta, E0, g, lam, thickness, layers, fmax, c, t, record_idx, scheme, Y) = job
-    stack = LayeredStack(A, S, beta, E0, g, lam, thickness, layers, c.shape[0], fmax)
+    (A, S, beta, E0, g, lam, thickness, layers, fmax, c, t, record_idx, scheme, kinetics,
+     Y) = job
+    stack = LayeredStack(A, S, beta, E0, g, lam, thickness, layers, c.shape[0], fmax,
+                         kinetics)
     f0 = np.broadcast_to(c, (layers, c.shape[0], c.shape[1])).copy()
     return _run_chunk(stack, f0, t, record_idx, scheme, Y)
 
@@ -214,7 +230,8 @@ def _chunks(n_samples, W, workers):
 
 
 def _advance(f, rate, dt, yields):
-    """Equation (3) with the rates held over ``dt``, plus yellowing transfers."""
+    """Equation (3) with the rates (per unit of colourant) held over ``dt``, plus
+    yellowing transfers."""
     new = f * np.exp(-dt * rate)
     if yields is not None:
         new += (f - new) @ yields
@@ -249,7 +266,8 @@ def _run_chunk(stack, f, t, record_idx, scheme, yields):
 
 def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
              substrate, wavelengths, thickness=1.0, duration=1.0, layers=5, steps=4,
-             scheme="heun", yields=None, record=None, workers=None):
+             scheme="heun", kinetics="first-order", yields=None, record=None,
+             workers=None):
     """Fade layered colourant mixtures under constant irradiance.
 
     Parameters
@@ -280,8 +298,14 @@ def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
         CIEDE2000 0.3 of the paper's 1024 × 625 reference in the accuracy study
         (``docs/accuracy.md``).
     scheme : {"paper", "heun"}
-        ``"paper"`` is equation (3) exactly (first order); ``"heun"`` the
-        predictor–corrector (second order, two flux solves per step).
+        ``"paper"``: rates held over each step (first order in the step);
+        ``"heun"``: the predictor–corrector (second order, two flux solves per step).
+    kinetics : {"first-order", "paper"}
+        The rate law. ``"first-order"``: ``df/dt = -f beta trapz(A_j F)``, each
+        molecule fading at its own rate (photochemistry, conservation practice).
+        ``"paper"``: equation (3) as printed, ``mu_a = f A_j`` inside the exponent,
+        so ``df/dt`` goes as ``f**2``. ``scheme="paper", kinetics="paper"`` is
+        the paper's equations (1)–(5) exactly.
     yields : array_like, shape (C, C), optional
         ``yields[j, k]``: volume fraction of ``k`` formed per unit lost by ``j``.
     record : array_like, optional
@@ -303,11 +327,12 @@ def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
     ValueError
         Naming the argument: negative or non-finite values, shape mismatches,
         concentrations or substrate outside [0, 1], non-increasing wavelengths,
-        ``layers`` or ``steps`` < 1, unknown scheme.
+        ``layers`` or ``steps`` < 1, unknown scheme or kinetics.
 
     References
     ----------
-    Paper, Section 3: equations (1)–(5), Figure 3.
+    Paper, Section 3: equations (1)–(5), Figure 3. First-order dye loss: Michalski,
+    CCI Light Damage Calculator (``c = exp(-D / K)``); Ligterink, inktime.
 
     Examples
     --------
@@ -321,7 +346,7 @@ def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
     (A, S, c, beta, E0, g, lam, thickness, duration, layers, steps, Y,
      times) = _check_inputs(absorption, scattering, concentrations, sensitivity,
                             irradiance, substrate, wavelengths, thickness, duration,
-                            layers, steps, scheme, yields, record)
+                            layers, steps, scheme, kinetics, yields, record)
     C, W = A.shape
     batch = c.shape[:-1]
     flat = c.reshape(-1, C)
@@ -335,7 +360,7 @@ def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
     workers, pool_kind = _parallelism(workers, layers * n_samples * W * solves)
     bounds = _chunks(n_samples, W, workers)
     jobs = [(A, S, beta, E0, g, lam, thickness, layers, fmax, flat[s:e], t, record_idx,
-             scheme, Y) for s, e in bounds]
+             scheme, kinetics, Y) for s, e in bounds]
     if pool_kind == "processes" and len(jobs) > 1:
         with ProcessPoolExecutor(max_workers=min(workers, len(jobs)),
                                  mp_context=multiprocessing.get_context("fork")) as pool:

@@ -21,6 +21,7 @@ paper's Figure 3 system.
 from __future__ import annotations
 
 import numpy as np
+from scipy.integrate import trapezoid
 
 from .kubelka import _X_FLOOR
 
@@ -40,12 +41,10 @@ def trapezoid_weights(wavelengths):
     [5.0, 15.0, 10.0]
     """
     lam = np.asarray(wavelengths, dtype=float)
-    w = np.zeros_like(lam)
-    if lam.size > 1:
-        h = np.diff(lam)
-        w[:-1] += h / 2
-        w[1:] += h / 2
-    return w
+    if lam.size < 2:
+        return np.zeros_like(lam)
+    # the rule is linear in y: its weights are the integrals of the unit vectors
+    return trapezoid(np.eye(lam.size), lam, axis=1)
 
 
 #: Largest ``y = x**2`` (x = alpha d) for which the series below are used: their first
@@ -142,9 +141,14 @@ class LayeredStack:
     fmax : float or ndarray, shape (C,)
         Upper bound of each colourant's volume fraction during the run (1 unless
         yields can raise a product above 1).
+    kinetics : {"first-order", "paper"}
+        ``"paper"``: the rate per unit of colourant carries ``mu_a = f A_j``
+        (equation 3 as printed); ``"first-order"``: ``A_j`` (each molecule absorbs
+        for itself). See :mod:`.fading`.
     """
 
-    def __init__(self, A, S, beta, E0, ground, wavelengths, thickness, N, B, fmax=1.0):
+    def __init__(self, A, S, beta, E0, ground, wavelengths, thickness, N, B, fmax=1.0,
+                 kinetics="first-order"):
         C, W = A.shape
         d = thickness / N
         n = B * W
@@ -160,6 +164,7 @@ class LayeredStack:
         # fluences into its mean (Section 3.1, "the average of the fluence rates").
         self.Wr = np.ascontiguousarray((0.5 * trapezoid_weights(wavelengths) * E0 * A).T)
         self.beta = np.asarray(beta, dtype=float)
+        self.times_f = kinetics == "paper"
         self.ground = np.tile(ground, B)
         self.rows = max(1, min(N, _BLOCK_BYTES // (8 * n)))
         self.R = np.empty((N + 1, n))                # reflectance below each boundary
@@ -227,8 +232,9 @@ class LayeredStack:
         Returns
         -------
         rate : ndarray, shape (N, B, C)
-            ``beta_j * trapz(mu_a_j * F)`` with ``mu_a_j = f A_j`` and ``F`` the
-            layer's mean fluence rate under the irradiance ``E0``.
+            ``beta_j * trapz(mu_a_j * F)`` with ``F`` the layer's mean fluence rate
+            under the irradiance ``E0`` and ``mu_a_j = f A_j`` (``"paper"``
+            kinetics) or ``A_j`` (``"first-order"``).
         R0 : ndarray, shape (B, W)
             The stack reflectance at these fractions.
         """
@@ -253,5 +259,6 @@ class LayeredStack:
             np.matmul(F.reshape(k * B, W), self.Wr, out=rate[i0:i1].reshape(k * B, C))
             Ed[0] = Ed[k]
         rate *= self.beta
-        rate *= f
+        if self.times_f:
+            rate *= f
         return rate, R0

@@ -21,10 +21,11 @@ import inspect
 from dataclasses import dataclass, replace
 
 import numpy as np
+from scipy.optimize import brentq
 
 from .colorimetry import delta_E_ab, reflectance_to_Lab
 from .colourants import load_colourant, load_substrate
-from .fading import simulate
+from .fading import KINETICS, simulate
 from .spectra import WAVELENGTHS, light_spectrum
 
 __all__ = [
@@ -85,6 +86,8 @@ class Recipe:
     calibration_light : str
         Light of the Blue Wool calibration (UV-filtered unless the colourant only
         reacts to UV, e.g. lignin, when ``calibration_uv_filter`` is False).
+    kinetics : {"first-order", "paper"}
+        The rate law (:func:`.fading.simulate`); first-order by default.
     thickness, layers, steps, scheme
         Medium thickness and solver settings (defaults: the accuracy study's choice).
     description : str
@@ -106,6 +109,7 @@ class Recipe:
     layers: int | None = None
     steps: int | None = None
     scheme: str | None = None
+    kinetics: str = "first-order"
 
     def __post_init__(self):
         C = len(self.colourants)
@@ -120,6 +124,9 @@ class Recipe:
         for k in self.blue_wool:
             if k is not None:
                 blue_wool_dose(k)
+        if self.kinetics not in KINETICS:
+            raise ValueError(f"recipe {self.name!r}: kinetics must be one of {KINETICS}, "
+                             f"got {self.kinetics!r}")
 
     # -- derived views -------------------------------------------------------------
 
@@ -127,10 +134,50 @@ class Recipe:
         return self.colourants.index(colourant)
 
     def solver(self):
-        """Keyword arguments for :func:`.fading.simulate` (layers, steps, scheme)."""
+        """Keyword arguments for :func:`.fading.simulate` (layers, steps, scheme, kinetics)."""
         defaults = inspect.signature(simulate).parameters
-        return {k: (getattr(self, k) if getattr(self, k) is not None else defaults[k].default)
-                for k in ("layers", "steps", "scheme")}
+        out = {k: (getattr(self, k) if getattr(self, k) is not None else defaults[k].default)
+               for k in ("layers", "steps", "scheme")}
+        out["kinetics"] = self.kinetics
+        return out
+
+    def concentrations(self, unmixed):
+        """(N, C) volume fractions: ``unmixed`` (N, Cu) placed among the fixed ones."""
+        unmixed = np.asarray(unmixed, dtype=float)
+        unmixed = unmixed.reshape(unmixed.shape[0] if unmixed.ndim > 1 else 1, len(self.unmixed))
+        c = np.tile(self.base_concentrations(), (unmixed.shape[0], 1))
+        for k, name in enumerate(self.unmixed):
+            c[:, self.index(name)] = unmixed[:, k]
+        return c
+
+    def simulate(self, concentrations, irradiance, duration, record=None,
+                 wavelengths=WAVELENGTHS, sensitivity=None):
+        """:func:`.fading.simulate` with this recipe's optics, yields and solver.
+
+        Parameters
+        ----------
+        concentrations : array_like, shape (..., C)
+            Volume fractions of all colourants (see :meth:`concentrations`).
+        irradiance : array_like, shape (W,)
+            Light on the surface, e.g. a spectrum at 1 lux; ``duration`` in hours
+            then makes doses in lux·h.
+        duration : float
+            Hours (or any unit matching ``irradiance``).
+        record : array_like, optional
+            Times at which to also return the reflectance.
+        sensitivity : array_like, shape (C,), optional
+            ``beta`` (default: :meth:`sensitivity`).
+
+        Returns
+        -------
+        SimulationResult
+        """
+        lam = np.asarray(wavelengths, dtype=float)
+        A, S, ground = self.optics(lam)
+        beta = self.sensitivity(lam) if sensitivity is None else sensitivity
+        return simulate(A, S, concentrations, beta, irradiance, ground, lam,
+                        thickness=self.thickness, duration=duration, record=record,
+                        yields=self.yield_matrix(), **self.solver())
 
     def yield_matrix(self):
         """(C, C) yields matrix for :func:`.fading.simulate`, or None."""
@@ -197,14 +244,12 @@ def _optics(colourants, substrate, wavelengths):
 
 def _calibration_fade(recipe, j, beta, dose, wavelengths):
     """ΔE*ab of colourant ``j`` alone at full concentration after ``dose`` lux·h."""
-    A, S, ground = recipe.optics(wavelengths)
     c = recipe.base_concentrations()
     c[j] = 1.0
     sens = np.zeros(len(recipe.colourants))
     sens[j] = beta
     E0 = light_spectrum(recipe.calibration_light, wavelengths, recipe.calibration_uv_filter)
-    r = simulate(A, S, c, sens, E0, ground, wavelengths, thickness=recipe.thickness,
-                 duration=dose, yields=recipe.yield_matrix(), **recipe.solver())
+    r = recipe.simulate(c, E0, dose, wavelengths=wavelengths, sensitivity=sens)
     return float(delta_E_ab(reflectance_to_Lab(r.initial, wavelengths),
                             reflectance_to_Lab(r.reflectance, wavelengths)))
 
@@ -213,24 +258,23 @@ def _calibration_fade(recipe, j, beta, dose, wavelengths):
 def _beta_cached(recipe, j, blue_wool, wavelengths):
     lam = np.asarray(wavelengths)
     dose = blue_wool_dose(blue_wool)
-    # bracket in log(beta): the fade grows monotonically with beta
+
+    def excess(log_beta):                   # grows monotonically with beta
+        return _calibration_fade(recipe, j, np.exp(log_beta), dose, lam) - JND_DELTA_E
+
+    # bracket the root in log(beta), then Brent's method to 1e-10 in log(beta)
     lo, hi = -30.0, -30.0
-    while _calibration_fade(recipe, j, np.exp(hi), dose, lam) < JND_DELTA_E:
+    while excess(hi) < 0:
         lo, hi = hi, hi + 4.0
         if hi > 30:
             raise ValueError(
                 f"recipe {recipe.name!r}: colourant {recipe.colourants[j]!r} does not fade "
                 f"under the calibration light {recipe.calibration_light!r}"
                 f"{' with UV filter' if recipe.calibration_uv_filter else ''}; give beta directly")
-    for _ in range(50):                     # bisection to 1e-10 relative in beta
-        mid = 0.5 * (lo + hi)
-        if _calibration_fade(recipe, j, np.exp(mid), dose, lam) < JND_DELTA_E:
-            lo = mid
-        else:
-            hi = mid
-        if hi - lo < 1e-10:
-            break
-    return float(np.exp(0.5 * (lo + hi)))
+    if lo == hi:
+        raise ValueError(f"recipe {recipe.name!r}: colourant {recipe.colourants[j]!r} fades "
+                         f"visibly at any beta; give beta directly")
+    return float(np.exp(brentq(excess, lo, hi, xtol=1e-10)))
 
 
 def beta_from_blue_wool(recipe, j, blue_wool, wavelengths=WAVELENGTHS):

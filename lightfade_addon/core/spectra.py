@@ -15,14 +15,15 @@ name                      CIE source         tabulated range in colour-science
 ========================  =================  =====================================
 ``daylight``              D65                300–780 nm, 5 nm (UV kept)
 ``daylight-glass``        ID65               300–780 nm, 5 nm (zero below 320 nm)
-``incandescent``          A                  computed: CIE's Planck formula, 2856 K
+``incandescent``          A                  computed: Planck, 2856 K (colour)
 ``fluorescent``           FL2                380–780 nm, 5 nm
 ``led``                   LED-B3             380–780 nm, 5 nm
 ========================  =================  =====================================
 
 Outside its tabulated range a light is zero. For A this never happens: CIE A is
 defined as a Planckian radiator at 2856 K (CIE 15:2004 writes it with c2 = 1.435e-2 m K
-and 2848 K), so it is computed at any wavelength. FL2 and LED-B3 are only tabulated from
+and 2848 K), so it is computed at any wavelength, by
+``colour.colorimetry.sd_CIE_standard_illuminant_A``. FL2 and LED-B3 are only tabulated from
 380 nm: the real FL2 lamp's weak mercury lines at 313 and 365 nm are therefore missing
 (fluorescent UV is underestimated); white LEDs emit essentially no UV.
 """
@@ -68,35 +69,25 @@ _COLOUR_KEYS = {
     "led": "LED-B3",
 }
 
-#: CIE illuminant A as defined in CIE 15:2004 (Section 3.1): Planck's law with
-#: c2 = 1.435e-2 m K at 2848 K, which is 2856 K with today's c2 = 1.4388e-2 m K.
-_T_A = 2848.0
-_C2_A = 1.435e-2
-
 #: Fine grid step used to build and normalise spectra before resampling, in nm.
 _FINE_STEP = 1.0
 
-#: The trapezoid rule under its numpy 2 name, falling back to numpy 1's.
-_trapezoid = getattr(np, "trapezoid", None) or np.trapz
+def _integral_to(x, y, b):
+    """Integral of the linear interpolant of (x, y) from ``x[0]`` to each of ``b``.
 
-
-def _cumulative_integral(x, y):
-    """Cumulative trapezoid integral of ``y`` (..., n) over ``x`` (n,), starting at 0."""
-    steps = 0.5 * (y[..., 1:] + y[..., :-1]) * np.diff(x)
-    zero = np.zeros(y.shape[:-1] + (1,))
-    return np.concatenate([zero, np.cumsum(steps, axis=-1)], axis=-1)
-
-
-def _integral_to(x, y, C, b):
-    """Integral of the linear interpolant of (x, y) from ``x[0]`` to ``b`` (``b`` in range).
-
-    ``C`` is :func:`_cumulative_integral` of (x, y); ``b`` is a 1-D array of end points,
-    each within ``[x[0], x[-1]]``. The result is exact for the piecewise-linear function.
+    ``y`` is (..., n) over ``x`` (n,); ``b`` a 1-D array of end points within
+    ``[x[0], x[-1]]``. The end points are added to the knots (the degree-1 spline
+    through the samples, ``scipy.interpolate.make_interp_spline``, evaluated there)
+    and the trapezoid rule accumulated over them (``scipy.integrate.cumulative_trapezoid``):
+    exact for the piecewise-linear function, and exactly zero over zero stretches.
     """
-    k = np.clip(np.searchsorted(x, b, side="right") - 1, 0, len(x) - 2)
-    t = b - x[k]
-    slope = (y[..., k + 1] - y[..., k]) / (x[k + 1] - x[k])
-    return C[..., k] + t * (y[..., k] + 0.5 * slope * t)
+    from scipy.integrate import cumulative_trapezoid
+    from scipy.interpolate import make_interp_spline
+
+    knots = np.union1d(x, b)
+    values = make_interp_spline(x, y, k=1, axis=-1)(knots)
+    C = cumulative_trapezoid(values, knots, axis=-1, initial=0.0)
+    return C[..., np.searchsorted(knots, b)]
 
 
 def _bin_edges(wavelengths):
@@ -159,8 +150,7 @@ def resample(wavelengths_src, values_src, wavelengths=WAVELENGTHS, outside="zero
         raise ValueError(f"outside must be 'zero' or 'edge', not {outside!r}")
 
     edges = _bin_edges(w)
-    C = _cumulative_integral(x, y)
-    F = _integral_to(x, y, C, np.clip(edges, x[0], x[-1]))
+    F = _integral_to(x, y, np.clip(edges, x[0], x[-1]))
     inside = np.diff(F, axis=-1)
     if outside == "edge":
         below = np.clip(np.minimum(edges[1:], x[0]) - edges[:-1], 0.0, None)
@@ -214,8 +204,10 @@ def illuminance(E, wavelengths=WAVELENGTHS):
     ndarray, shape (...)
         Illuminance in lux: ``683 lm/W * integral E V dlambda``.
     """
+    from scipy.integrate import trapezoid
+
     w = np.asarray(wavelengths, dtype=float)
-    return K_M * _trapezoid(np.asarray(E, dtype=float) * luminous_efficiency(w), w, axis=-1)
+    return K_M * trapezoid(np.asarray(E, dtype=float) * luminous_efficiency(w), w, axis=-1)
 
 
 def uv_filter_transmittance(wavelengths, cutoff=400.0, width=8.0):
@@ -243,24 +235,17 @@ def uv_filter_transmittance(wavelengths, cutoff=400.0, width=8.0):
     return 0.5 * (1.0 + np.tanh(0.5 * z))
 
 
-def _planck_A(lam):
-    """Relative spectral power of CIE illuminant A (Planck, 2856 K), 100 at 560 nm."""
-    lam_m = lam * 1e-9
-    ref = 560e-9
-    return 100.0 * (ref / lam_m) ** 5 * np.expm1(_C2_A / (ref * _T_A)) / np.expm1(
-        _C2_A / (lam_m * _T_A)
-    )
-
-
 @lru_cache(maxsize=None)
 def _fine_source(name, lo, hi):
     """Relative source spectrum on a fine grid: (wavelengths, values), read-only."""
-    if name == "incandescent":
-        lam = np.arange(min(lo, 300.0), max(hi, 830.0) + _FINE_STEP / 2, _FINE_STEP)
-        values = _planck_A(lam)
-    else:
-        import colour
+    import colour
 
+    if name == "incandescent":
+        shape = colour.SpectralShape(min(lo, 300.0), max(hi, 830.0), _FINE_STEP)
+        sd = colour.colorimetry.sd_CIE_standard_illuminant_A(shape)
+        lam = np.array(sd.wavelengths, dtype=float)
+        values = np.array(sd.values, dtype=float)
+    else:
         sd = colour.SDS_ILLUMINANTS[_COLOUR_KEYS[name]]
         src_lam = np.array(sd.wavelengths, dtype=float)
         src = np.array(sd.values, dtype=float)
@@ -310,8 +295,17 @@ def light_spectrum(name, wavelengths=WAVELENGTHS, uv_filter=False):
     """
     _check_name(name)
     w = _check_grid(wavelengths, "wavelengths")
+    return _light_cached(name, tuple(w.tolist()), bool(uv_filter)).copy()
+
+
+@lru_cache(maxsize=64)
+def _light_cached(name, wavelengths, uv_filter):
+    """:func:`light_spectrum` for a grid given as a tuple; read-only, cached."""
+    w = np.array(wavelengths)
     lam, values = _fine_source(name, float(w[0]), float(w[-1]))
     if uv_filter:
         values = values * uv_filter_transmittance(lam)
-    scale = 1.0 / (K_M * _trapezoid(values * luminous_efficiency(lam), lam))
-    return resample(lam, values * scale, w, outside="zero")
+    scale = 1.0 / illuminance(values, lam)
+    E = resample(lam, values * scale, w, outside="zero")
+    E.flags.writeable = False
+    return E

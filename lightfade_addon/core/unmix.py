@@ -20,7 +20,8 @@ from .colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_encode, xyz_weight
 from .kubelka import kubelka_layer, over_ground
 from .spectra import WAVELENGTHS
 
-__all__ = ["Unmixer", "forward_reflectance", "get_unmixer"]
+__all__ = ["Unmixer", "bounded_gauss_newton", "forward_reflectance", "get_unmixer", "jacobian",
+           "pseudo_inverse"]
 
 
 def forward_reflectance(recipe, c, wavelengths=WAVELENGTHS):
@@ -44,6 +45,76 @@ def forward_reflectance(recipe, c, wavelengths=WAVELENGTHS):
     for k, name in enumerate(recipe.unmixed):
         f[:, recipe.index(name)] = c[:, k]
     return over_ground(*kubelka_layer(f @ A, f @ S, recipe.thickness), ground)
+
+
+def jacobian(F, c, F_c=None, h=1e-5):
+    """``dF / dc`` (N, K, Cu) of a row-wise ``F`` (N, Cu) -> (N, K), one-sided
+    differences that stay inside [0, 1]."""
+    c = np.asarray(c, dtype=float)
+    F_c = F(c) if F_c is None else F_c
+    J = np.empty(F_c.shape + (c.shape[1],))
+    for k in range(c.shape[1]):
+        step = np.where(c[:, k] + h <= 1.0, h, -h)
+        ck = c.copy()
+        ck[:, k] += step
+        J[:, :, k] = (F(ck) - F_c) / step[:, None]
+    return J
+
+
+def pseudo_inverse(J):
+    """``(J^T J + 1e-6 I)^-1 J^T`` (N, Cu, K): the damped Gauss–Newton step matrix."""
+    Cu = J.shape[2]
+    JtJ = np.einsum("nik,nil->nkl", J, J) + 1e-6 * np.eye(Cu)
+    return np.linalg.solve(JtJ, np.swapaxes(J, 1, 2))
+
+
+def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
+    """Least squares ``|F(c) - target|^2`` per row over the box [0, 1], in place.
+
+    Projected Gauss–Newton with an active set and a backtracking line search:
+    variables held at a bound by the step are frozen for that step (their columns
+    of the Jacobian dropped), and the step is halved up to three times until the
+    residual drops, so solutions with colourants at 0 or 1 (out-of-gamut colours)
+    converge instead of stalling at the start. Rows are independent.
+
+    Parameters
+    ----------
+    F : callable, F(c, rows=None): (N, Cu) -> (N, K)
+        Row-wise; ``rows`` (when given) are the indices of ``c``'s rows among all
+        N, for row-specific parameters.
+    c : ndarray, shape (N, Cu)
+        Start, in [0, 1]; overwritten with the solution.
+    target : ndarray, shape (N, K)
+    iterations : int
+
+    Returns
+    -------
+    ndarray, shape (N, Cu)
+        ``c``.
+    """
+    for _ in range(iterations):
+        F_c = F(c)
+        r = F_c - target                                        # (N, K) residual
+        J = jacobian(F, c, F_c, h)
+        delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
+        held = ((c <= 0.0) & (delta > 0)) | ((c >= 1.0) & (delta < 0))
+        if held.any():
+            J = np.where(held[:, None, :], 0.0, J)
+            delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
+            delta[held] = 0.0
+        cost = np.sum(r * r, axis=1)
+        moved = np.zeros(c.shape[0], dtype=bool)
+        for alpha in (1.0, 0.5, 0.25, 0.125):
+            todo = np.flatnonzero(~moved)
+            if todo.size == 0:
+                break
+            trial = np.clip(c[todo] - alpha * delta[todo], 0.0, 1.0)
+            better = np.sum((F(trial, todo) - target[todo]) ** 2, axis=1) < cost[todo]
+            c[todo[better]] = trial[better]
+            moved[todo[better]] = True
+        if not moved.any():
+            break
+    return c
 
 
 class Unmixer:
@@ -90,26 +161,20 @@ class Unmixer:
         _, nearest = cKDTree(self._seed_Lab).query(Lab)
         return self._gauss_newton(self._seeds[nearest].copy(), Lab, iterations)
 
+    def jacobian(self, c, Lab_c=None, h=1e-5):
+        """``d Lab / d c`` (N, 3, Cu) by one-sided differences inside [0, 1]."""
+        return jacobian(self.Lab, c, Lab_c, h)
+
+    def slope(self, c):
+        """How the solution moves with the target colour: ``dc / dLab`` (N, Cu, 3).
+
+        At a solution ``c`` of :meth:`solve_Lab` inside the gamut this is the
+        inverse of :meth:`jacobian`; outside, the least-squares (projected) step.
+        """
+        return pseudo_inverse(self.jacobian(c))
+
     def _gauss_newton(self, c, Lab, iterations, h=1e-5):
-        """Projected, safeguarded Gauss–Newton steps on ``|Lab(c) - Lab|^2`` over [0, 1]."""
-        N = c.shape[0]
-        for _ in range(iterations):
-            r = self.Lab(c) - Lab                                   # (N, 3) residual
-            J = np.empty((N, 3, self.Cu))
-            for k in range(self.Cu):                                # one-sided differences,
-                step = np.where(c[:, k] + h <= 1.0, h, -h)           # inside the box
-                ck = c.copy()
-                ck[:, k] += step
-                J[:, :, k] = (self.Lab(ck) - Lab - r) / step[:, None]
-            JtJ = np.einsum("nik,nil->nkl", J, J) + 1e-6 * np.eye(self.Cu)
-            Jtr = np.einsum("nik,ni->nk", J, r)
-            delta = np.linalg.solve(JtJ, Jtr[..., None])[..., 0]
-            trial = np.clip(c - delta, 0.0, 1.0)
-            better = np.sum((self.Lab(trial) - Lab) ** 2, axis=1) <= np.sum(r * r, axis=1)
-            c[better] = trial[better]
-            if not better.any():
-                break
-        return c
+        return bounded_gauss_newton(lambda x, rows=None: self.Lab(x), c, Lab, iterations, h)
 
     def solve_linear_srgb(self, rgb, iterations=12):
         """Concentrations for linear sRGB colours (N, 3) (exact solve, no table)."""

@@ -1,8 +1,9 @@
-"""Exposure bake: occlusion, calibration in lux, exact restoration, errors, persistence.
+"""Exposure bake: occlusion, calibration in lux, light groups, real materials, UV checks,
+texel density, cancel, exact restoration, errors, persistence.
 
-Calibration (see ``lightfade_addon.blender.bake``): Cycles' DIFFUSE bake without colour
-gives ``E / pi`` for irradiance ``E`` in Blender's nominal W/m²; maps store
-``683 * pi * value`` lux, so a sun of strength S at zenith angle θ gives 683 S cosθ lux and
+Calibration (see ``lightfade_addon.blender.bake.common``): Cycles' DIFFUSE bake without
+colour gives ``E / pi`` for irradiance ``E`` in Blender's nominal W/m²; maps store
+``683 * pi * Y`` lux, so a sun of strength S at zenith angle θ gives 683 S cosθ lux and
 a point lamp of P watts at distance r gives 683 P / (4 pi r²) lux.
 """
 
@@ -12,8 +13,16 @@ import bpy
 import numpy as np
 import pytest
 
-from lightfade_addon.blender import bake as bake_mod
-from lightfade_addon.blender.bake import BakeSettings, bake_exposure
+from lightfade_addon.blender.bake import (
+    BakeCancelled,
+    BakeSettings,
+    BakeState,
+    LightFadeBakeError,
+    bake_exposure,
+    exposure_signature,
+    lights_and_exposure,
+    remove_exposure,
+)
 
 SMALL = BakeSettings(resolution=64, samples=8, margin=2)
 
@@ -92,7 +101,7 @@ class TestBakeExposure:
         assert [(m.emitter, m.emitter_kind, m.image.name) for m in maps] == [("Sun", "SUN", image.name)]
         assert floor_scene["floor"].lightfade.uv_map == "UVMap"
 
-    def test_point_lamp_calibration_and_one_map_per_emitter(self, floor_scene, lf):
+    def test_point_lamp_calibration_and_one_map_per_group(self, floor_scene, lf):
         P, r = 100.0, 2.0
         lf.add_point(P, (-0.5, -0.5, r))
         result = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
@@ -108,6 +117,10 @@ class TestBakeExposure:
 
     def test_world_and_emissive_mesh_are_emitters(self, floor_scene, lf):
         world = bpy.data.worlds.new("Sky")
+        if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+            world.use_nodes = True
+        world.lightfade.spectrum = "DAYLIGHT"  # a world counts once it has a spectrum
+        world.lightfade.hours_per_day = 10.0
         world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.5
         world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
         bpy.context.scene.world = world
@@ -115,10 +128,13 @@ class TestBakeExposure:
         panel = bpy.context.active_object
         panel.name = "Panel"
         mat = bpy.data.materials.new("Glow")
+        if bpy.app.version < (5, 0, 0):  # Blender 4.x, as above
+            mat.use_nodes = True
         bsdf = mat.node_tree.nodes["Principled BSDF"]
         bsdf.inputs["Emission Color"].default_value = (1, 1, 1, 1)
         bsdf.inputs["Emission Strength"].default_value = 5.0
         panel.data.materials.append(mat)
+        panel.lightfade_emitter.hours_per_day = 4.0  # its own group (the sun has 8 h)
         before = snapshot()
         result = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
         assert set(result["maps"]["Floor"]) == {"Sun", "World", "Panel"}
@@ -136,7 +152,8 @@ class TestBakeExposure:
     def test_state_restored_and_albedo_untouched(self, floor_scene, lf):
         albedo = floor_scene["albedo"]
         original = lf.pixels(albedo).copy()
-        bpy.context.scene.render.engine = "BLENDER_EEVEE"
+        # EEVEE is "BLENDER_EEVEE_NEXT" in Blender 4.2-4.5.
+        bpy.context.scene.render.engine = "BLENDER_EEVEE" if bpy.app.version >= (5, 0, 0) else "BLENDER_EEVEE_NEXT"
         floor_scene["box"].select_set(True)
         before = snapshot()
         result = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
@@ -150,31 +167,32 @@ class TestBakeExposure:
         assert result["maps"]["Floor"]["Sun"].users >= 1
 
     def test_state_restored_when_bake_raises(self, floor_scene, lf, monkeypatch):
-        lf.add_point()
+        lf.add_point()  # LED: a second group
         floor_scene["box"].select_set(True)
         before = snapshot()
         calls = []
+        real = BakeState.bake
 
-        def failing(settings, uv_name):
+        def failing(state):
             calls.append(1)
             if len(calls) == 2:
                 raise RuntimeError("simulated Cycles failure")
-            return {"FINISHED"}
+            return real(state)
 
-        monkeypatch.setattr(bake_mod, "_cycles_bake", failing)
+        monkeypatch.setattr(BakeState, "bake", failing)
         with pytest.raises(RuntimeError, match="simulated"):
             bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
+        assert len(calls) == 2
         after = snapshot()
-        made = set(after.pop("images")) - set(before.pop("images"))
-        assert made <= {"LF_Exposure_Floor_Sun"}  # the pair that finished; no temporaries
-        assert after == before
+        assert after == before  # no partial map, no temporaries
+        assert len(floor_scene["floor"].lightfade.exposure_maps) == 0
 
     def test_rebake_replaces_the_map_everywhere(self, floor_scene, lf):
         first = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)["maps"]["Floor"]["Sun"]
         user = floor_scene["material"].node_tree.nodes.new("ShaderNodeTexImage")
         user.image = first  # e.g. the lead's aging nodes
         floor_scene["sun"].data.energy = 4.0
-        second = bake_exposure(bpy.context.scene, [floor_scene["floor"]], BakeSettings(32, 4, 1))
+        second = bake_exposure(bpy.context.scene, [floor_scene["floor"]], BakeSettings(32, 8, 1))
         image = second["maps"]["Floor"]["Sun"]
         assert tuple(image.size) == (32, 32) and user.image == image
         assert image["lightfade_bake_id"] == 2
@@ -272,3 +290,236 @@ def test_save_reload_round_trip(floor_scene, lf, tmp_path):
     item = bpy.data.objects["Floor"].lightfade.exposure_maps["Sun"]
     assert item.emitter_kind == "SUN" and item.image.packed_file is not None
     np.testing.assert_allclose(lf.pixels(item.image), lux, rtol=1e-3)
+
+
+def _count_bakes(monkeypatch):
+    """Record each Cycles call: the selected objects and their slots' materials."""
+    calls = []
+    real = BakeState.bake
+
+    def counting(state):
+        vl = state.view_layer
+        calls.append({o.name: [s.material.name for s in o.material_slots if s.material]
+                      for o in vl.objects if o.select_get()})
+        return real(state)
+
+    monkeypatch.setattr(BakeState, "bake", counting)
+    return calls
+
+
+def _lit_median(lf, image):
+    lux = lf.pixels(image)
+    _, lit = _footprint_and_lit(lux)
+    return float(np.median(lux[lit]))
+
+
+class TestLightGroups:
+    def test_same_schedule_lamps_add_into_one_map(self, floor_scene, lf, monkeypatch):
+        second = lf.add_sun(strength=1.0, name="Sun2")  # same angle, spectrum and schedule
+        calls = _count_bakes(monkeypatch)
+        result = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
+        assert list(result["maps"]["Floor"]) == ["Sun +1"]
+        assert result["groups"] == [("Sun +1", ["Sun", "Sun2"])]
+        assert len(calls) == 1
+        item = floor_scene["floor"].lightfade.exposure_maps["Sun +1"]
+        assert sorted(m.name for m in item.members) == ["Sun", "Sun2"]
+        # 2 + 1: the lamps add; one overwriting the other would give 2 or 1.
+        expected = 683.0 * 3.0 * math.cos(math.radians(40))
+        assert _lit_median(lf, item.image) == pytest.approx(expected, rel=0.03)
+        second.data.lightfade.hours_per_day = 2.0  # now two groups: two maps
+        result = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
+        assert sorted(result["maps"]["Floor"]) == ["Sun", "Sun2"]
+        assert "LF_Exposure_Floor_Sun +1" not in bpy.data.images  # the old group's map is gone
+
+    def test_all_targets_in_one_call_per_group(self, floor_scene, lf, monkeypatch):
+        lf.add_point()  # LED: a second group
+        calls = _count_bakes(monkeypatch)
+        result = bake_exposure(bpy.context.scene, [floor_scene["floor"], floor_scene["box"]], SMALL)
+        assert len(calls) == 2 and all(set(c) == {"Floor", "Box"} for c in calls)
+        assert set(result["maps"]["Box"]) == {"Sun", "Lamp"}
+
+    def test_regroup_sums_maps_without_baking(self, floor_scene, lf, monkeypatch):
+        second = lf.add_sun(strength=1.0, name="Sun2")
+        second.data.lightfade.hours_per_day = 2.0
+        scene = bpy.context.scene
+        maps = bake_exposure(scene, [floor_scene["floor"]], SMALL)["maps"]["Floor"]
+        parts = lf.pixels(maps["Sun"]) + lf.pixels(maps["Sun2"])
+        signature = exposure_signature(scene, floor_scene["floor"])
+        second.data.lightfade.hours_per_day = 8.0  # same schedule as Sun: one group
+        assert exposure_signature(scene, floor_scene["floor"]) != signature
+        lights, lux = lights_and_exposure(scene, floor_scene["floor"], (64, 64))
+        assert len(lights) == 1  # maps of one schedule add when read
+        np.testing.assert_allclose(lux[0], parts, rtol=1e-5)
+        calls = _count_bakes(monkeypatch)
+        result = bake_exposure(scene, [floor_scene["floor"]], SMALL, only_changed=True)
+        assert calls == [] and list(result["maps"]["Floor"]) == ["Sun +1"]
+        np.testing.assert_allclose(lf.pixels(result["maps"]["Floor"]["Sun +1"]), parts, rtol=1e-5)
+
+    def test_split_group_is_stale_until_baked(self, floor_scene, lf):
+        second = lf.add_sun(strength=1.0, name="Sun2")
+        scene = bpy.context.scene
+        bake_exposure(scene, [floor_scene["floor"]], SMALL)
+        second.data.lightfade.uv_filter = True
+        with pytest.raises(LightFadeBakeError, match="Floor.*Sun \\+1.*bake exposure again"):
+            lights_and_exposure(scene, floor_scene["floor"], (64, 64))
+
+
+class TestPhotometry:
+    def test_luminance_not_red(self, floor_scene, lf):
+        floor_scene["sun"].data.color = (0.0, 1.0, 0.0)  # green light: no red at all
+        image = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)["maps"]["Floor"]["Sun"]
+        expected = 683.0 * 2.0 * math.cos(math.radians(40)) * 0.7152  # Y of pure green
+        assert _lit_median(lf, image) == pytest.approx(expected, rel=0.03)
+
+    def test_world_counts_only_with_a_spectrum(self, floor_scene, lf):
+        world = bpy.data.worlds.new("Sky")
+        world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.5
+        world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
+        bpy.context.scene.world = world
+        floor_scene["box"].hide_render = True
+        result = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
+        assert set(result["maps"]["Floor"]) == {"Sun"}  # default world: not counted
+        assert _lit_median(lf, result["maps"]["Floor"]["Sun"]) == pytest.approx(
+            683.0 * 2 * math.cos(math.radians(40)), rel=0.03)  # and not in the sun's map either
+        world.lightfade.spectrum = "DAYLIGHT"
+        floor_scene["sun"].data.lightfade.enabled = False
+        sky = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)["maps"]["Floor"]["World"]
+        assert np.median(lf.pixels(sky)) == pytest.approx(683 * math.pi * 0.5, rel=0.04)
+
+    def test_real_material_used_and_restored(self, floor_scene, lf, monkeypatch):
+        before = snapshot()
+        seen = []
+        real = BakeState.bake
+
+        def spying(state):
+            mat = floor_scene["floor"].material_slots[0].material
+            nodes = [n for n in mat.node_tree.nodes if n.type == "TEX_IMAGE"]
+            seen.append((mat.name, mat.node_tree.nodes.active.image.name, len(nodes)))
+            return real(state)
+
+        monkeypatch.setattr(BakeState, "bake", spying)
+        bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)
+        assert seen == [("Carpet", "LF_TMP_Floor_Sun", 2)]  # the real material + one node
+        after = snapshot()
+        after.pop("images"), before.pop("images")
+        assert after == before
+
+    def test_bounce_off_a_coloured_surface_counts_by_luminance(self, floor_scene, lf):
+        # A green wall lit by the sun bounces green light onto the floor's shadow.
+        bpy.ops.mesh.primitive_plane_add(size=2.0, location=(0.0, 1.0, 1.0), rotation=(math.radians(90), 0, 0))
+        wall = bpy.context.active_object
+        green = bpy.data.materials.new("Green")
+        green.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.0, 0.8, 0.0, 1.0)
+        wall.data.materials.append(green)
+        floor_scene["sun"].rotation_euler = (math.radians(-40), 0.0, 0.0)  # lights the wall's face
+        image = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)["maps"]["Floor"]["Sun"]
+        lux = lf.pixels(image)
+        green.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.8, 0.0, 0.0, 1.0)
+        red = lf.pixels(bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)["maps"]["Floor"]["Sun"])
+        near = lux[56:62, 8:56].mean(), red[56:62, 8:56].mean()  # the strip by the wall
+        assert near[0] > near[1]  # a green wall returns more luminance than a red one
+
+
+class TestUVChecks:
+    def test_mirror_modifier_refused_before_any_bake(self, floor_scene, monkeypatch):
+        calls = _count_bakes(monkeypatch)
+        for obj in (floor_scene["floor"], floor_scene["box"]):
+            obj.modifiers.new("Mirror", "MIRROR").mirror_offset_u = 0.0
+        floor_scene["floor"].location.x = 1.5
+        with pytest.raises(LightFadeBakeError) as err:
+            bake_exposure(bpy.context.scene, [floor_scene["floor"], floor_scene["box"]], SMALL)
+        lines = str(err.value).splitlines()
+        assert len(lines) == 2 and all("Mirror modifier" in line and "apply it" in line for line in lines)
+        assert lines[0].startswith('"Floor"') and lines[1].startswith('"Box"')
+        assert calls == []
+        assert "LightFadeUV" not in floor_scene["floor"].data.uv_layers
+
+    def test_overlapping_islands_get_a_lightfade_uv(self, floor_scene, lf):
+        # Two floor tiles whose UVs both cover the whole square (a trim-sheet habit).
+        mesh = bpy.data.meshes.new("Strip")
+        mesh.from_pydata([(-1, -1, 0.01), (0, -1, 0.01), (0, 1, 0.01), (-1, 1, 0.01),
+                          (1, -1, 0.01), (1, 1, 0.01)], [], [(0, 1, 2, 3), (1, 4, 5, 2)])
+        uv = mesh.uv_layers.new(name="UVMap").data
+        squashed = np.array([(0, 0), (1, 0), (1, 1), (0, 1)] * 2, dtype=np.float32)
+        uv.foreach_set("uv", squashed.ravel())
+        strip = bpy.data.objects.new("Strip", mesh)
+        bpy.context.scene.collection.objects.link(strip)
+        floor_scene["floor"].hide_render = True
+        notes = []
+        result = bake_exposure(bpy.context.scene, [strip], SMALL, report=notes.append)
+        assert any("Strip" in n and "overlap" in n and "LightFadeUV" in n for n in notes)
+        assert strip.lightfade.uv_map == "LightFadeUV" and strip.lightfade.uv_created
+        assert strip.data.uv_layers.active.name == "UVMap"  # the user's map stays active
+        mine = np.empty(len(strip.data.loops) * 2, dtype=np.float32)
+        strip.data.uv_layers["UVMap"].data.foreach_get("uv", mine)
+        np.testing.assert_array_equal(mine, squashed.ravel())
+        # The box's shadow falls on the right tile only: with one texel per place, the
+        # map shows it once (on overlapping UVs it would darken both tiles' texels).
+        lux = lf.pixels(result["maps"]["Strip"]["Sun"])
+        assert lux.max() > 900 and np.percentile(lux[lux > 0], 5) < 0.1 * lux.max()
+        remove_exposure(bpy.context.scene, [strip])
+        assert "LightFadeUV" not in strip.data.uv_layers and len(strip.lightfade.exposure_maps) == 0
+        assert not any(i.name.startswith("LF_Exposure_Strip") for i in bpy.data.images)
+
+    def test_unique_uvs_pass(self, floor_scene):
+        result = bake_exposure(bpy.context.scene, [floor_scene["floor"], floor_scene["box"]], SMALL)
+        assert result["notes"] == [] and floor_scene["box"].lightfade.uv_map == "UVMap"
+
+
+class TestSizing:
+    def test_texel_density(self, floor_scene):
+        from lightfade_addon.blender.bake.sizing import density_size
+
+        assert density_size(4.0, 1.0, 64, 1024) == 128  # 2 m at 64 texels/m
+        assert density_size(4.0, 1.0, 100, 1024) == 200  # a multiple of 8
+        assert density_size(4.0, 0.25, 64, 1024) == 256  # islands fill a quarter
+        assert density_size(4.0, 1.0, 1000, 1024) == 1024  # the cap
+        assert density_size(1e-4, 1.0, 64, 1024) == 16
+        settings = BakeSettings(samples=2, margin=2, denoise=False, texels_per_metre=20, max_size=64)
+        maps = bake_exposure(bpy.context.scene, [floor_scene["floor"], floor_scene["box"]], settings)["maps"]
+        assert tuple(maps["Floor"]["Sun"].size) == (40, 40)  # 2 m × 20 /m
+        # The box: 6 faces of 0.36 m²; its UV islands cover a share a of the square.
+        uv = np.empty(len(floor_scene["box"].data.loops) * 2)
+        floor_scene["box"].data.uv_layers[0].data.foreach_get("uv", uv)
+        quads = uv.reshape(6, 4, 2)
+        d1, d2 = quads[:, 2] - quads[:, 0], quads[:, 3] - quads[:, 1]
+        a = np.sum(0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]))
+        n = math.ceil(20 * math.sqrt(6 * 0.36 / a) / 8) * 8
+        assert tuple(maps["Box"]["Sun"].size) == (n, n) and n != 40
+
+
+class TestProgressAndCancel:
+    def test_cancel_restores_everything_and_stores_nothing(self, floor_scene, lf):
+        lf.add_point()
+        first = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)["maps"]["Floor"]
+        old = {k: lf.pixels(v).copy() for k, v in first.items()}
+        floor_scene["box"].select_set(True)
+        before = snapshot()
+        checks = []
+
+        def cancel():
+            checks.append(1)
+            return len(checks) >= 2  # after the first group's bake
+
+        with pytest.raises(BakeCancelled):
+            bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL, cancel=cancel)
+        assert snapshot() == before
+        maps = floor_scene["floor"].lightfade.exposure_maps
+        assert {m.name for m in maps} == set(old)
+        for m in maps:
+            np.testing.assert_array_equal(lf.pixels(m.image), old[m.name])
+
+    def test_headless_one_progress_line_per_bake_and_quiet(self, floor_scene, lf, capfd):
+        lf.add_point()
+        bake_exposure(bpy.context.scene, [floor_scene["floor"], floor_scene["box"]], SMALL)
+        out = capfd.readouterr().out
+        assert "save it externally" not in out
+        lines = [line for line in out.splitlines() if line.startswith("LightFade:")]
+        assert len(lines) == 2 and "[1/2]" in lines[0] and "[2/2]" in lines[1] and "left" in lines[1]
+
+    def test_progress_callback(self, floor_scene, lf):
+        lf.add_point()
+        seen = []
+        bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL,
+                      progress=lambda fraction, message: seen.append((fraction, message)))
+        assert [f for f, _ in seen] == [0.5, 1.0] and "Floor" in seen[0][1]

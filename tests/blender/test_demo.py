@@ -2,7 +2,6 @@
 built, tagged, baked, aged and rendered at a tiny size, and every output is written."""
 
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -24,10 +23,8 @@ pytestmark = pytest.mark.blender
 @pytest.fixture(scope="module")
 def quick_room(tmp_path_factory):
     out = tmp_path_factory.mktemp("demo")
-    t0 = time.perf_counter()
     result = demo.main(["--quick", "--scenes", "room", "--out", str(out)])
-    seconds = time.perf_counter() - t0
-    yield out, result, seconds
+    yield out, result
     addon_utils.disable(demo.ADDON, default_set=True)
     bpy.ops.wm.read_factory_settings(use_empty=True)
 
@@ -36,13 +33,8 @@ def pixels(path):
     return np.asarray(Image.open(path).convert("RGB"), dtype=np.float32) / 255.0
 
 
-def test_quick_room_runs_in_under_90_seconds(quick_room):
-    _, _, seconds = quick_room
-    assert seconds < 90
-
-
 def test_writes_frames_contact_sheet_gif_and_blend(quick_room):
-    out, result, _ = quick_room
+    out, result = quick_room
     years = demo.SCENES["room"]["quick_years"]
     for y in years:
         assert (out / f"room_{demo.years_slug(y)}.png").is_file()
@@ -56,20 +48,20 @@ def test_writes_frames_contact_sheet_gif_and_blend(quick_room):
 
 
 def test_aged_frame_differs_from_the_new_one(quick_room):
-    out, _, _ = quick_room
+    out, _ = quick_room
     new, aged = pixels(out / "room_0y.png"), pixels(out / "room_25y.png")
     assert new.shape == aged.shape
     assert np.abs(aged - new).mean() > 0.005
 
 
 def test_reveal_frame_differs_from_the_aged_one(quick_room):
-    out, _, _ = quick_room
+    out, _ = quick_room
     aged, reveal = pixels(out / "room_25y.png"), pixels(out / "room_reveal_25y.png")
     assert np.abs(reveal - aged).mean() > 0.005  # the rug and lamp are gone
 
 
 def test_tags_became_lightfade_settings(quick_room):
-    _, result, _ = quick_room
+    _, result = quick_room
     tags = result["results"]["room"]["tags"]
     assert tags["materials"]["Rug_Wool"] == {"recipe": "dyed-fabric", "blue_wool": 4}
     assert tags["materials"]["Floor_Oak"]["recipe"] == "bare-wood"
@@ -79,7 +71,7 @@ def test_tags_became_lightfade_settings(quick_room):
 
 
 def test_saved_blend_keeps_the_aged_pixels(quick_room):
-    out, _, _ = quick_room
+    out, _ = quick_room
     bpy.ops.wm.open_mainfile(filepath=str(out / "room.blend"))
     aged = [im for im in bpy.data.images if im.name.startswith("LF_Aged_")]
     assert len(aged) == 5

@@ -87,55 +87,98 @@ class TestRegister:
         subprocess.run([sys.executable, "-c", code], cwd=ROOT, check=True)
 
 
-class TestDefaults:
-    def test_scene(self, blender):
-        s = bpy.context.scene.lightfade
-        assert (s.years, s.bake_resolution, s.bake_samples, s.bake_margin) == (0.0, 1024, 64, 16)
-        prop = s.bl_rna.properties["bake_resolution"]
-        assert (prop.hard_min, prop.hard_max) == (64, 8192)
-        assert s.bl_rna.properties["years"].is_animatable
-        s.years = -3.0
-        assert s.years == 0.0
+def _enum(rna_owner, prop):
+    """{identifier: (name, description)} of an enum property as Blender registered it."""
+    return {i.identifier: (i.name, i.description)
+            for i in rna_owner.bl_rna.properties[prop].enum_items}
 
-    def test_light_world_schedule(self, blender):
-        light = bpy.data.lights.new("L", "SPOT")
-        world = bpy.data.worlds.new("W")
-        for sched in (light.lightfade, world.lightfade):
-            assert sched.enabled and sched.spectrum == "AUTO" and not sched.uv_filter
-            assert (sched.hours_per_day, sched.days_per_year) == (8.0, 365.0)
-            sched.hours_per_day = 30
-            assert sched.hours_per_day == 24.0
-        items = {i.identifier for i in light.lightfade.bl_rna.properties["spectrum"].enum_items}
-        assert items == {"AUTO", "DAYLIGHT", "DAYLIGHT_GLASS", "INCANDESCENT", "FLUORESCENT", "LED"}
 
-    def test_auto_spectrum(self, blender):
-        from lightfade_addon.blender.properties import resolve_spectrum
+class TestOneVocabulary:
+    """The UI's words and defaults are the core's tables, as registered in Blender."""
+
+    def test_spectra_are_the_core_lights_with_their_descriptions(self, blender):
+        from lightfade_addon.core.spectra import LIGHTS
+
+        items = _enum(bpy.data.lights.new("L", "SPOT").lightfade, "spectrum")
+        assert list(items) == ["AUTO"] + [n.upper().replace("-", "_") for n in LIGHTS]
+        for name, text in LIGHTS.items():
+            assert items[name.upper().replace("-", "_")][1] == text
+        assert LIGHTS["daylight-glass"] in items["AUTO"][1] and LIGHTS["led"] in items["AUTO"][1]
+
+    def test_recipes_are_the_core_recipes_with_their_descriptions(self, blender):
+        from lightfade_addon.core.recipes import RECIPES
+
+        items = _enum(bpy.data.materials.new("M").lightfade, "recipe")
+        assert list(items) == [n.upper().replace("-", "_") for n in RECIPES]
+        for name, recipe in RECIPES.items():
+            assert items[name.upper().replace("-", "_")][1] == recipe.description
+
+    def test_every_emitter_kind_resolves_to_a_core_light(self, blender):
+        from lightfade_addon.blender.properties import EMITTER_KIND_ITEMS, resolve_spectrum
+        from lightfade_addon.core.spectra import LIGHTS
 
         light = bpy.data.lights.new("L", "POINT")
-        assert resolve_spectrum(light.lightfade, "SUN") == "daylight-glass"
-        assert resolve_spectrum(light.lightfade, "WORLD") == "daylight-glass"
-        assert resolve_spectrum(light.lightfade, "POINT") == "led"
-        light.lightfade.spectrum = "INCANDESCENT"
-        assert resolve_spectrum(light.lightfade, "SUN") == "incandescent"
+        kinds = [kind for kind, *_ in EMITTER_KIND_ITEMS]
+        auto = {kind: resolve_spectrum(light.lightfade, kind) for kind in kinds}
+        assert auto == {"SUN": "daylight-glass", "WORLD": "daylight-glass",
+                        "EMISSIVE": "daylight-glass", "POINT": "led", "SPOT": "led",
+                        "AREA": "led"}
+        for name in LIGHTS:
+            light.lightfade.spectrum = name.upper().replace("-", "_")
+            assert {resolve_spectrum(light.lightfade, kind) for kind in kinds} == {name}
 
-    def test_material(self, blender):
-        from lightfade_addon.blender.properties import RECIPE_IDS
+    def test_schedule_defaults_are_the_core_light_defaults(self, blender):
+        from lightfade_addon.core.aging import Light
 
+        core = Light()
+        for sched in (bpy.data.lights.new("L", "SPOT").lightfade,
+                      bpy.data.worlds.new("W").lightfade,
+                      bpy.data.objects.new("O", None).lightfade_emitter):
+            assert sched.enabled and sched.spectrum == "AUTO"
+            assert (sched.uv_filter, sched.hours_per_day, sched.days_per_year) == (
+                core.uv_filter, core.hours_per_day, core.days_per_year)
+
+    def test_a_recipe_brings_its_weakest_blue_wool_class(self, blender):
         from lightfade_addon.core.recipes import RECIPES
 
         m = bpy.data.materials.new("M").lightfade
-        assert (m.enabled, m.recipe, m.sensitivity_mode, m.blue_wool, m.source) == (
-            False, "PRINTED_PAPER", "BLUE_WOOL", 2, None)     # the print's magenta: class 2
-        assert set(RECIPE_IDS.values()) == {"printed-paper", "dyed-fabric", "painted-wood", "bare-wood"}
-        m.recipe = "DYED_FABRIC"
-        assert m.blue_wool == min(RECIPES["dyed-fabric"].blue_wool)  # the recipe's weakest class
-        m.blue_wool = 9
-        assert m.blue_wool == 8
+        weakest = {n: min(k for k in r.blue_wool if k is not None) for n, r in RECIPES.items()}
+        assert m.recipe == "PRINTED_PAPER" and m.blue_wool == weakest["printed-paper"]
+        assert len(set(weakest.values())) > 1             # the recipes really differ
+        for name in reversed(list(RECIPES)):
+            m.recipe = name.upper().replace("-", "_")
+            assert m.blue_wool == weakest[name], name
 
-    def test_object(self, blender):
+
+class TestLimits:
+    """What Blender itself enforces: hard limits clamp, the slider is animatable."""
+
+    def test_scene(self, blender):
+        s = bpy.context.scene.lightfade
+        assert s.bl_rna.properties["years"].is_animatable
+        for value, kept in ((-3.0, 0.0), (250.0, 250.0)):          # no cap above 100 years
+            s.years = value
+            assert s.years == kept
+        for value, kept in ((1, 64), (10 ** 6, 8192), (512, 512)):
+            s.bake_resolution = value
+            assert s.bake_resolution == kept
+
+    def test_schedule_clamps_to_a_day_and_a_year(self, blender):
+        sched = bpy.data.lights.new("L", "SPOT").lightfade
+        for attr, value, kept in (("hours_per_day", 30, 24.0), ("hours_per_day", -1, 0.0),
+                                  ("days_per_year", 400, 366.0), ("days_per_year", -5, 0.0)):
+            setattr(sched, attr, value)
+            assert getattr(sched, attr) == kept, attr
+
+    def test_blue_wool_class_is_1_to_8(self, blender):
+        m = bpy.data.materials.new("M").lightfade
+        for value, kept in ((9, 8), (0, 1), (5, 5)):
+            m.blue_wool = value
+            assert m.blue_wool == kept
+
+    def test_object_holds_exposure_maps(self, blender):
         obj = bpy.data.objects.new("O", bpy.data.meshes.new("O"))
         assert len(obj.lightfade.exposure_maps) == 0 and obj.lightfade.uv_map == ""
-        assert obj.lightfade_emitter.enabled
         item = obj.lightfade.exposure_maps.add()
         item.emitter, item.emitter_kind = "World", "WORLD"
         item.image = bpy.data.images.new("X", 4, 4, float_buffer=True)

@@ -49,6 +49,11 @@ def _base_color_image(mat):
     return node.image
 
 
+def _cross2(a, b):
+    """z of the cross product of two 2-D vectors (numpy 2 rejects 2-D ``np.cross``)."""
+    return a[0] * b[1] - a[1] * b[0]
+
+
 def _uv_coverage(mesh, n=256):
     """How many faces cover each of n x n texel centres (strictly inside, so shared edges count once)."""
     uv = np.empty(len(mesh.loops) * 2, dtype=np.float64)
@@ -58,9 +63,9 @@ def _uv_coverage(mesh, n=256):
     centres = (np.arange(n) + 0.5) / n
     for poly in mesh.polygons:
         p = uv[list(poly.loop_indices)]
-        if abs(np.cross(p[1] - p[0], p[-1] - p[0])) < 1e-12:
+        if abs(_cross2(p[1] - p[0], p[-1] - p[0])) < 1e-12:
             continue
-        sign = np.sign(sum(np.cross(p[i], p[(i + 1) % len(p)]) for i in range(len(p))))
+        sign = np.sign(sum(_cross2(p[i], p[(i + 1) % len(p)]) for i in range(len(p))))
         i0, i1 = np.searchsorted(centres, [p[:, 0].min(), p[:, 0].max()])
         j0, j1 = np.searchsorted(centres, [p[:, 1].min(), p[:, 1].max()])
         U, V = np.meshgrid(centres[i0:i1], centres[j0:j1])

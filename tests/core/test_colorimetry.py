@@ -90,11 +90,12 @@ class TestReflectanceToLab:
     def test_black(self):
         np.testing.assert_allclose(reflectance_to_Lab(np.zeros(41), WAVELENGTHS), 0.0, atol=1e-12)
 
-    def test_broadcasting(self):
+    def test_batches_are_computed_spectrum_by_spectrum(self):
         R = np.random.default_rng(2).random((4, 5, 41))
         lab = reflectance_to_Lab(R, WAVELENGTHS)
-        assert lab.shape == (4, 5, 3)
-        np.testing.assert_allclose(lab[3, 1], reflectance_to_Lab(R[3, 1], WAVELENGTHS))
+        one_by_one = [[reflectance_to_Lab(r, WAVELENGTHS) for r in row] for row in R]
+        np.testing.assert_allclose(lab, one_by_one, rtol=1e-12)
+        assert len({tuple(v) for v in lab.reshape(-1, 3).round(6)}) == 20   # all distinct
 
 
 class TestXYZToLab:
@@ -141,11 +142,34 @@ class TestSrgb:
         v = np.linspace(0.0, 1.0, 101)
         np.testing.assert_allclose(srgb_decode(srgb_encode(v)), v, atol=1e-12)
 
+    def test_both_segments_of_iec_61966_2_1(self):
+        # Linear below the thresholds (also for negative values), a 2.4 power above.
+        low = np.array([-0.2, -0.001, 0.001, 0.003])
+        np.testing.assert_allclose(srgb_encode(low), 12.92 * low, rtol=1e-12)
+        np.testing.assert_allclose(srgb_decode(12.92 * low), low, rtol=1e-12)
+        high = np.array([0.01, 0.2, 0.9, 1.5])
+        np.testing.assert_allclose(srgb_encode(high), 1.055 * high ** (1 / 2.4) - 0.055,
+                                   rtol=1e-12)
+        np.testing.assert_allclose(srgb_decode(srgb_encode(high)), high, rtol=1e-12)
+
+    def test_keeps_the_shape_and_maps_each_value(self):
+        v = np.random.default_rng(8).random((3, 4, 3)).astype(np.float32)
+        np.testing.assert_array_equal(srgb_encode(v),
+                                      np.vectorize(lambda x: float(srgb_encode(x)))(v))
+        np.testing.assert_array_equal(srgb_decode(v),
+                                      np.vectorize(lambda x: float(srgb_decode(x)))(v))
+
 
 class TestDeltaE:
     def test_ab(self):
         assert delta_E_ab([50.0, 3.0, 4.0], [50.0, 0.0, 0.0]) == pytest.approx(5.0)
-        assert delta_E_ab(np.zeros((2, 7, 3)), [[1.0, 2.0, 2.0]]).shape == (2, 7)
+        assert delta_E_ab([10.0, -1.0, 2.0], [12.0, 0.0, 0.0]) == pytest.approx(3.0)
+
+    def test_ab_broadcasts_pair_by_pair(self):
+        a = np.random.default_rng(9).normal(50, 20, (2, 7, 3))
+        b = np.array([[40.0, 5.0, -3.0]])
+        expected = [[np.sqrt(np.sum((a[i, j] - b[0]) ** 2)) for j in range(7)] for i in range(2)]
+        np.testing.assert_allclose(delta_E_ab(a, b), expected, rtol=1e-12)
 
     def test_2000_sharma_2005(self):
         # Sharma, Wu and Dalal (2005), Table 1, pairs 1, 7, 17, 25, 29, 32, 33.
@@ -161,8 +185,12 @@ class TestDeltaE:
         expected = [2.0425, 2.3669, 27.1492, 1.2644, 1.4441, 0.6377, 0.9082]
         np.testing.assert_allclose(delta_E_2000(pairs[:, 0], pairs[:, 1]), expected, atol=1e-4)
 
-    def test_2000_broadcasts(self):
-        assert delta_E_2000(np.full((4, 2, 3), 50.0), [50.0, 1.0, 0.0]).shape == (4, 2)
+    def test_2000_broadcasts_pair_by_pair(self):
+        a = np.random.default_rng(10).normal([50, 0, 0], [20, 30, 30], (4, 2, 3))
+        b = np.array([55.0, 10.0, -20.0])
+        expected = [[delta_E_2000(a[i, j], b) for j in range(2)] for i in range(4)]
+        np.testing.assert_allclose(delta_E_2000(a, b), expected, rtol=1e-12)
+        assert np.ptp(delta_E_2000(a, b)) > 1.0
 
 
 class TestRmsDeltaR:
@@ -173,5 +201,7 @@ class TestRmsDeltaR:
     def test_broadcasting(self):
         R = np.random.default_rng(7).random((2, 3, 41))
         out = rms_delta_R(R, R[0])
-        assert out.shape == (2, 3)
-        np.testing.assert_allclose(out[0], 0.0)
+        expected = [[np.sqrt(np.mean((R[i, j] - R[0, j]) ** 2)) for j in range(3)]
+                    for i in range(2)]
+        np.testing.assert_allclose(out, expected, rtol=1e-12)
+        assert np.all(out[1] > 0.1)

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from scipy.integrate import trapezoid
 
 from lightfade_addon.core import boundary_fluxes, kubelka_layer, over_ground, simulate
 from lightfade_addon.core.layered import LayeredStack, trapezoid_weights
@@ -80,26 +81,45 @@ class TestInvariants:
 
 
 class TestEquation3:
-    def test_one_layer_one_step_by_hand(self, toy):
-        """f(dt) = f exp(-dt beta trapz(mu_a F)) with F the layer's mean fluence."""
+    @pytest.mark.parametrize("kinetics", ["paper", "first-order"])
+    def test_one_layer_one_step_by_hand(self, toy, kinetics):
+        """f(dt) = f exp(-dt beta trapz(mu_a F)) with F the layer's mean fluence and
+        mu_a = f A (paper: equation 3 as printed) or A (first order)."""
         c = np.array([0.3, 0.5, 0.2])
         dt = 7.0
-        r = run(toy, c, layers=1, steps=1, duration=dt, scheme="paper")
+        r = run(toy, c, layers=1, steps=1, duration=dt, scheme="paper", kinetics=kinetics)
         K = c @ toy["absorption"]
         S = c @ toy["scattering"]
         rho, tau = kubelka_layer(K, S, 1.0)
         Ed, Eu = boundary_fluxes(rho[None], tau[None], toy["substrate"], toy["irradiance"])
         F = 0.5 * ((Ed + Eu)[0] + (Ed + Eu)[1])
-        mu_a = c[:, None] * toy["absorption"]
-        exponent = dt * toy["sensitivity"] * np.trapz(mu_a * F, toy["wavelengths"], axis=1)
+        mu_a = (c[:, None] if kinetics == "paper" else 1.0) * toy["absorption"]
+        exponent = dt * toy["sensitivity"] * trapezoid(mu_a * F, toy["wavelengths"], axis=1)
         np.testing.assert_allclose(r.fractions[0], c * np.exp(-exponent), rtol=1e-12)
 
-    def test_fused_stack_equals_plain_functions(self, toy):
+    def test_first_order_is_the_default_and_pale_tints_fade_at_the_same_rate(self, toy):
+        """First order: in an optically thin layer (no shielding) the surviving fraction
+        does not depend on the concentration; with the paper's law a pale tint keeps
+        relatively more."""
+        thin = dict(toy, absorption=toy["absorption"] * 1e-3, scattering=toy["scattering"] * 1e-3,
+                    sensitivity=toy["sensitivity"] * 1e3)
+        c = np.array([[0.9, 0.0, 0.0], [0.1, 0.0, 0.0]])
+        first = run(thin, c, layers=1, steps=1, duration=0.2, scheme="paper")
+        kept = first.fractions[:, 0, 0] / c[:, 0]
+        assert 0.2 < kept[0] < 0.8
+        np.testing.assert_allclose(kept[0], kept[1], rtol=1e-2)
+        paper = run(thin, c, layers=1, steps=1, duration=0.2, scheme="paper", kinetics="paper")
+        kept = paper.fractions[:, 0, 0] / c[:, 0]
+        assert kept[1] > kept[0] + 0.05
+
+    @pytest.mark.parametrize("kinetics", ["paper", "first-order"])
+    def test_fused_stack_equals_plain_functions(self, toy, kinetics):
         rng = np.random.default_rng(2)
         N, B = 9, 5
         f = rng.uniform(0, 1, (N, B, 3))
         stack = LayeredStack(toy["absorption"], toy["scattering"], toy["sensitivity"],
-                             toy["irradiance"], toy["substrate"], toy["wavelengths"], 1.3, N, B)
+                             toy["irradiance"], toy["substrate"], toy["wavelengths"], 1.3, N, B,
+                             kinetics=kinetics)
         rate, R0 = stack.rates(f)
         K = f @ toy["absorption"]
         S = f @ toy["scattering"]
@@ -109,28 +129,35 @@ class TestEquation3:
         F = Ed + Eu
         Fl = 0.5 * (F[:, :-1] + F[:, 1:])                             # (B, N, W)
         w = trapezoid_weights(toy["wavelengths"])
-        expected = np.einsum("bnw,nbc,cw,w->nbc", Fl, f, toy["absorption"], w)
+        per_unit = f if kinetics == "paper" else np.ones_like(f)
+        expected = np.einsum("bnw,nbc,cw,w->nbc", Fl, per_unit, toy["absorption"], w)
         expected *= toy["sensitivity"]
         np.testing.assert_allclose(rate, expected, rtol=1e-11)
         np.testing.assert_allclose(R0, Eu[:, 0] / toy["irradiance"], rtol=1e-12)
 
 
 class TestConvergence:
-    @staticmethod
-    def errors(toy, scheme, steps_list):
+    #: a clear fade, in the asymptotic regime, for each rate law
+    DURATION = {"paper": 20.0, "first-order": 2.0}
+
+    @classmethod
+    def errors(cls, toy, scheme, steps_list, kinetics):
         c = np.array([[0.7, 0.4, 0.6], [0.2, 0.9, 0.5]])
-        kw = dict(duration=20.0, layers=8)        # a clear fade, in the asymptotic regime
+        kw = dict(duration=cls.DURATION[kinetics], layers=8, kinetics=kinetics)
         ref = run(toy, c, steps=2048, scheme="heun", **kw).reflectance
+        assert np.abs(ref - run(toy, c, duration=0.0, layers=8).initial).max() > 0.05
         return np.array([np.abs(run(toy, c, steps=s, scheme=scheme, **kw).reflectance - ref).max()
                          for s in steps_list])
 
-    def test_paper_scheme_is_first_order(self, toy):
-        e = self.errors(toy, "paper", [16, 32, 64, 128])
+    @pytest.mark.parametrize("kinetics", ["paper", "first-order"])
+    def test_paper_scheme_is_first_order(self, toy, kinetics):
+        e = self.errors(toy, "paper", [16, 32, 64, 128], kinetics)
         ratios = e[:-1] / e[1:]
         assert np.all((ratios > 1.8) & (ratios < 2.3)), ratios
 
-    def test_heun_scheme_is_second_order(self, toy):
-        e = self.errors(toy, "heun", [16, 32, 64])
+    @pytest.mark.parametrize("kinetics", ["paper", "first-order"])
+    def test_heun_scheme_is_second_order(self, toy, kinetics):
+        e = self.errors(toy, "heun", [16, 32, 64], kinetics)
         ratios = e[:-1] / e[1:]
         assert np.all((ratios > 3.4) & (ratios < 4.6)), ratios
 
@@ -185,6 +212,7 @@ class TestValidation:
         (dict(steps=0), "steps"),
         (dict(steps=2.5), "steps"),
         (dict(scheme="rk4"), "scheme"),
+        (dict(kinetics="second-order"), "kinetics"),
         (dict(thickness=0.0), "thickness"),
         (dict(duration=-1.0), "duration"),
         (dict(record=[2.0, 1.0]), "record"),

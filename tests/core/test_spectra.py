@@ -5,6 +5,7 @@ import sys
 
 import numpy as np
 import pytest
+from scipy.integrate import trapezoid as trapz
 
 from lightfade_addon.core.spectra import (
     LIGHTS,
@@ -17,7 +18,6 @@ from lightfade_addon.core.spectra import (
 )
 
 FINE = np.arange(300.0, 831.0)
-trapz = getattr(np, "trapezoid", None) or np.trapz
 
 
 def test_core_modules_do_not_import_bpy():
@@ -73,8 +73,9 @@ class TestResample:
         src = np.linspace(300.0, 780.0, 97)
         values = np.random.default_rng(0).random((2, 3, 97))
         out = resample(src, values, WAVELENGTHS)
-        assert out.shape == (2, 3, 41)
-        np.testing.assert_allclose(out[1, 2], resample(src, values[1, 2], WAVELENGTHS))
+        one_by_one = [[resample(src, v, WAVELENGTHS) for v in row] for row in values]
+        np.testing.assert_allclose(out, one_by_one, rtol=1e-12)
+        assert np.ptp(out[:, :, 20]) > 0.1                      # the rows really differ
 
     def test_outside_zero_and_edge(self):
         src, values = [400.0, 700.0], [2.0, 3.0]
@@ -135,6 +136,11 @@ class TestLightSpectrum:
         for name in ("fluorescent", "led"):
             E = light_spectrum(name, FINE)
             assert np.all(E[FINE < 380] == 0.0)
+
+    def test_each_call_gets_its_own_array(self):
+        E = light_spectrum("daylight")
+        E *= 0.0                                                # the caller's to change
+        assert light_spectrum("daylight").max() > 0.0
 
     def test_unknown_name_lists_valid_names(self):
         with pytest.raises(ValueError, match="daylight-glass"):

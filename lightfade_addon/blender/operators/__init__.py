@@ -1,11 +1,12 @@
 """LightFade operators, one per module.  ``CLASSES`` is registered in order."""
 
 from .age import LIGHTFADE_OT_age
-from .bake_exposure import LIGHTFADE_OT_bake_exposure
+from .bake_exposure import LIGHTFADE_OT_bake_calibrate, LIGHTFADE_OT_bake_exposure
 from .reset import LIGHTFADE_OT_reset
 
 CLASSES = (
     LIGHTFADE_OT_bake_exposure,
+    LIGHTFADE_OT_bake_calibrate,
     LIGHTFADE_OT_age,
     LIGHTFADE_OT_reset,
 )

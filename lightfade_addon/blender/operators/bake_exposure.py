@@ -1,16 +1,22 @@
-"""``lightfade.bake_exposure``: bake the exposure maps of the selected (or enabled) meshes."""
+"""``lightfade.bake_exposure``: bake the exposure maps of the selected (or enabled) meshes.
+
+From the UI (invoke) the bake runs modally, one light group per timer tick: the progress
+bar and the status line show the group and the time left, and Esc cancels cleanly
+(settings restored, no map stored).  From scripts (exec) it runs to the end, printing one
+line per bake in background mode.
+"""
 
 import bpy
 from bpy.props import BoolProperty
 
-from ..bake import BakeSettings, LightFadeBakeError, bake_exposure
-from ..progress import window_progress
+from ..bake import BakeCancelled, BakeSettings, ExposureBake, LightFadeBakeError, bake_exposure
+from ..bake import calibrate
 
 
 class LIGHTFADE_OT_bake_exposure(bpy.types.Operator):
-    """Bake per-texel illuminance (lux) from each lamp, the world and emissive meshes with \
-Cycles, for the selected meshes (or, with none selected, every mesh whose material has \
-LightFade enabled)"""
+    """Bake per-texel illuminance (lux) from each light group (lamps sharing spectrum and \
+schedule, the world, emissive meshes) with Cycles, for the selected meshes (or, with none \
+selected, every mesh whose material has LightFade enabled).  Esc cancels"""
 
     bl_idname = "lightfade.bake_exposure"
     bl_label = "Bake Exposure"
@@ -18,7 +24,13 @@ LightFade enabled)"""
 
     unwrap: BoolProperty(
         name="Unwrap Missing UVs",
-        description="Smart UV Project meshes that have no UV map instead of skipping them",
+        description="Give meshes without a UV map a LightFadeUV map instead of skipping them",
+        default=False,
+    )
+    only_changed: BoolProperty(
+        name="Changed Groups Only",
+        description="Keep the maps of light groups that did not change; maps of groups that "
+        "merged are added up without baking",
         default=False,
     )
 
@@ -26,22 +38,105 @@ LightFade enabled)"""
     def poll(cls, context):
         return context.scene is not None and context.mode == "OBJECT"
 
+    def _settings(self, context):
+        return BakeSettings.from_scene(context.scene, unwrap=self.unwrap)
+
+    def _only_changed(self, context):
+        return self.only_changed or context.scene.lightfade_bake.only_changed
+
+    def _warn(self, msg):
+        self.report({"WARNING"}, msg)
+
     def execute(self, context):
-        selected = list(context.selected_objects)
-        settings = BakeSettings.from_scene(context.scene, unwrap=self.unwrap)
         try:
-            with window_progress(context) as progress:
-                result = bake_exposure(
-                    context, selected, settings,
-                    report=lambda msg: self.report({"WARNING"}, msg),
-                    progress=lambda done, total, text: progress((done - 1) / max(total, 1), text),
-                )
+            result = bake_exposure(context, list(context.selected_objects), self._settings(context),
+                                   report=self._warn, only_changed=self._only_changed(context))
         except LightFadeBakeError as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
         n = sum(len(m) for m in result["maps"].values())
-        self.report(
-            {"INFO"},
-            f"Baked {n} exposure map(s) for {len(result['maps'])} object(s) in {result['seconds']:.1f} s",
-        )
+        self.report({"INFO"}, f"Baked {n} exposure map(s) for {len(result['maps'])} object(s) in "
+                              f"{len(result['groups'])} light group(s), {result['seconds']:.1f} s")
+        return {"FINISHED"}
+
+    # -- modal run from the UI
+    def invoke(self, context, event):
+        if context.window is None or bpy.app.background:
+            return self.execute(context)
+        wm = context.window_manager
+        self._job = ExposureBake(context, list(context.selected_objects), self._settings(context),
+                                 report=self._warn, progress=self._progress,
+                                 only_changed=self._only_changed(context))
+        try:
+            self._job.plan()
+            self._job.__enter__()
+        except LightFadeBakeError as err:
+            self.report({"ERROR"}, str(err))
+            return {"CANCELLED"}
+        self._cancel = False
+        wm.progress_begin(0, 1000)
+        self._timer = wm.event_timer_add(0.05, window=context.window)
+        wm.modal_handler_add(self)
+        context.workspace.status_text_set("LightFade: baking exposure… (Esc to cancel)")
+        return {"RUNNING_MODAL"}
+
+    def _progress(self, fraction, message):
+        wm = bpy.context.window_manager
+        wm.progress_update(int(1000 * fraction))
+        if bpy.context.workspace is not None:
+            bpy.context.workspace.status_text_set(f"LightFade: {message} (Esc to cancel)")
+
+    def _end(self, context, exc=None):
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+        return self._job.__exit__(type(exc) if exc else None, exc, None)
+
+    def modal(self, context, event):
+        if event.type == "ESC":
+            self._cancel = True
+        if event.type != "TIMER":
+            return {"RUNNING_MODAL"} if not self._cancel else self._finish(context)
+        return self._finish(context)
+
+    def _finish(self, context):
+        try:
+            more = self._job.step(cancel=lambda: self._cancel)
+            if more:
+                return {"RUNNING_MODAL"}
+            maps = self._job.commit()
+        except LightFadeBakeError as err:
+            self._end(context, err)
+            level = {"WARNING"} if isinstance(err, BakeCancelled) else {"ERROR"}
+            self.report(level, str(err))
+            return {"CANCELLED"}
+        except Exception as err:
+            self._end(context, err)
+            raise
+        self._end(context)
+        n = sum(len(m) for m in maps.values())
+        self.report({"INFO"}, f"Baked {n} exposure map(s) for {len(maps)} object(s)")
+        return {"FINISHED"}
+
+
+class LIGHTFADE_OT_bake_calibrate(bpy.types.Operator):
+    """Time two tiny bakes on this scene to estimate how long the exposure bake takes"""
+
+    bl_idname = "lightfade.bake_calibrate"
+    bl_label = "Calibrate"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.scene is not None and context.mode == "OBJECT"
+
+    def execute(self, context):
+        try:
+            rate, overhead = calibrate(context)
+        except LightFadeBakeError as err:
+            self.report({"ERROR"}, str(err))
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"Cycles bakes {rate / 1e6:.2f} M texel·samples/s "
+                              f"(+{overhead:.2f} s per call) here")
         return {"FINISHED"}

@@ -1,0 +1,49 @@
+"""The exposure bake: per-texel illuminance (lux) from each light group, with Cycles.
+
+Modules, one job each:
+
+``common``   units (the lux calibration), names, the error type
+``records``  what is stored in the .blend (exposure-map records, bake settings)
+``presets``  quality presets with their measured time and noise
+``state``    the context manager that restores every setting a bake changes
+``emitters`` finding emitters, grouping them by spectrum and schedule, isolating a group
+``raster``   UV triangles on the texel grid (numpy): overlap counts, island labels
+``uvmaps``   the UV map each object is baked on: overlap checks, LightFadeUV
+``sizing``   map sizes from a texel density; time estimates from a calibration bake
+``targets``  which objects are baked; the target image nodes in their real materials
+``denoise``  OIDN through Blender's compositor, guided by UV islands
+``exposure`` the bake loop (one Cycles call per group), :func:`bake_exposure`
+``maps``     storing maps; reading them back for aging; signature; removal
+``panel``    the Exposure Bake panel's contents
+"""
+
+from .common import (
+    LUX_PER_BAKE_UNIT,
+    LUX_PER_WATT,
+    UV_MAP_NAME,
+    BakeCancelled,
+    LightFadeBakeError,
+    exposure_image_name,
+)
+from .emitters import Emitter, LightGroup, find_emitters, find_groups, group_emitters
+from .exposure import BakeSettings, ExposureBake, bake_exposure, calibrate
+from .maps import (
+    StaleExposureError,
+    exposure_signature,
+    lights_and_exposure,
+    maps_lit_by,
+    remove_exposure,
+)
+from .records import LIGHTFADE_PG_exposure_map, LIGHTFADE_PG_object
+from .state import BakeState
+from .targets import find_targets
+
+__all__ = [
+    "LUX_PER_WATT", "LUX_PER_BAKE_UNIT", "UV_MAP_NAME",
+    "BakeCancelled", "BakeSettings", "BakeState", "Emitter", "ExposureBake", "LightGroup",
+    "LightFadeBakeError", "StaleExposureError",
+    "LIGHTFADE_PG_exposure_map", "LIGHTFADE_PG_object",
+    "bake_exposure", "calibrate", "exposure_image_name", "exposure_signature",
+    "find_emitters", "find_groups", "find_targets", "group_emitters",
+    "lights_and_exposure", "maps_lit_by", "remove_exposure",
+]

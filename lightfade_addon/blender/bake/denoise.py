@@ -1,0 +1,153 @@
+"""Denoising baked maps with Open Image Denoise, through Blender's compositor.
+
+Blender bundles OIDN; its compositor Denoise node runs headless (``bpy`` module and
+``blender -b``) without a camera.  Cycles does not denoise bakes, so each baked map is
+put through a compositor tree in a temporary scene::
+
+    Image (baked, HDR) ─┐
+    Image (island ids) ─┴─ Denoise (HDR, prefilter None) ─ output
+
+and the result is read back from a temporary EXR.  Where no sample of a small window
+found any light (a contact shadow, a closed corner), the denoiser must not invent some:
+:func:`guard` caps each denoised texel at the brightest raw texel around it.  The *albedo* guide is a flat random
+colour per UV island (grown over the bake margin): OIDN keeps edges where the guide
+changes, so light does not bleed across seams between islands that lie side by side in
+UV space.  The guide is noise-free, hence no prefilter (half the time).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+
+import bpy
+import numpy as np
+
+from .common import TEMP_PREFIX
+
+
+def island_colours(label):
+    """(H, W, 3) guide: a distinct colour in [0.2, 1] per island label, black where -1."""
+    rng = np.random.default_rng(12345)
+    n = int(label.max()) + 1 if label.size else 0
+    palette = rng.uniform(0.2, 1.0, size=(max(n, 1), 3)).astype(np.float32)
+    out = np.zeros(label.shape + (3,), dtype=np.float32)
+    inside = label >= 0
+    out[inside] = palette[label[inside]]
+    return out
+
+
+def max_filter(a, radius):
+    """Maximum over a ``(2 radius + 1)²`` window of an (H, W, ...) array (edges clamped)."""
+    out = a
+    for axis in (0, 1):
+        padded = np.concatenate([np.repeat(out.take([0], axis), radius, axis), out,
+                                 np.repeat(out.take([-1], axis), radius, axis)], axis=axis)
+        n = out.shape[axis]
+        out = np.max([padded.take(range(k, k + n), axis) for k in range(2 * radius + 1)], axis=0)
+    return out
+
+
+def guard(denoised, raw, radius=2):
+    """``denoised`` capped at the local maximum of ``raw`` (and at 0 from below).
+
+    A window of 25 texels at a few samples each holds ~100-200 paths: if none of them
+    carried light, the texel's irradiance is ~0 and a denoised value above it is bleed
+    from a bright neighbour.  In lit and noisy areas the local maximum is far above the
+    mean, so the cap does nothing there.
+    """
+    return np.clip(denoised, 0.0, max_filter(raw, radius))
+
+
+def _image(name, rgb):
+    h, w = rgb.shape[:2]
+    img = bpy.data.images.new(TEMP_PREFIX + name, w, h, alpha=False, float_buffer=True)
+    img.colorspace_settings.is_data = True
+    px = np.ones((h, w, 4), dtype=np.float32)
+    px[..., :3] = rgb
+    img.pixels.foreach_set(px.ravel())
+    return img
+
+
+def _set(node, name, value, prop, prop_value):
+    """Set a Denoise option: an input socket from 4.5/5.0 on, a node property before."""
+    if name in node.inputs:
+        node.inputs[name].default_value = value
+    elif hasattr(node, prop):
+        setattr(node, prop, prop_value)
+
+
+def _tree(scene):
+    """A compositor tree of ``scene`` and its output node (5.0 changed the API)."""
+    if bpy.app.version >= (5, 0, 0):  # 5.0: node-group compositor, Group Output
+        tree = bpy.data.node_groups.new(TEMP_PREFIX + "Denoise", "CompositorNodeTree")
+        scene.compositing_node_group = tree
+        tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+        return tree, tree.nodes.new("NodeGroupOutput")
+    scene.use_nodes = True  # 4.2-4.5: the scene's own tree, Composite node
+    tree = scene.node_tree
+    tree.nodes.clear()
+    return tree, tree.nodes.new("CompositorNodeComposite")
+
+
+@contextlib.contextmanager
+def _temporary_scene(width, height):
+    scene = bpy.data.scenes.new(TEMP_PREFIX + "Denoise")
+    made_result = "Render Result" not in bpy.data.images
+    tree = None
+    try:
+        scene.render.resolution_x, scene.render.resolution_y = width, height
+        scene.render.resolution_percentage = 100
+        scene.render.image_settings.file_format = "OPEN_EXR"
+        scene.render.image_settings.color_depth = "32"
+        tree, out = _tree(scene)
+        yield scene, tree, out
+    finally:
+        if bpy.app.version >= (5, 0, 0) and tree is not None:
+            bpy.data.node_groups.remove(tree)
+        bpy.data.scenes.remove(scene)
+        result = bpy.data.images.get("Render Result")
+        if made_result and result is not None:
+            bpy.data.images.remove(result)
+
+
+def denoise(rgb, guide=None):
+    """Denoise an (H, W, 3) float map with OIDN; ``guide`` is an optional (H, W, 3) albedo.
+
+    Returns the denoised (H, W, 3) float32 array.
+    """
+    h, w = rgb.shape[:2]
+    images = []
+    fd, path = tempfile.mkstemp(prefix="lightfade_denoise_", suffix=".exr")
+    os.close(fd)
+    try:
+        with _temporary_scene(w, h) as (scene, tree, out):
+            source = tree.nodes.new("CompositorNodeImage")
+            source.image = _image("noisy", rgb)
+            images.append(source.image)
+            node = tree.nodes.new("CompositorNodeDenoise")
+            _set(node, "HDR", True, "use_hdr", True)
+            _set(node, "Prefilter", "None", "prefilter", "NONE")
+            _set(node, "Quality", "Balanced", "quality", "BALANCED")
+            tree.links.new(source.outputs["Image"], node.inputs["Image"])
+            if guide is not None:
+                albedo = tree.nodes.new("CompositorNodeImage")
+                albedo.image = _image("guide", guide)
+                images.append(albedo.image)
+                tree.links.new(albedo.outputs["Image"], node.inputs["Albedo"])
+            tree.links.new(node.outputs["Image"], out.inputs[0])
+            bpy.ops.render.render(scene=scene.name)
+            bpy.data.images["Render Result"].save_render(path, scene=scene)
+        result = bpy.data.images.load(path)
+        images.append(result)
+        result.colorspace_settings.is_data = True
+        px = np.empty(w * h * 4, dtype=np.float32)
+        result.pixels.foreach_get(px)
+        return px.reshape(h, w, 4)[..., :3].copy()
+    finally:
+        for img in images:
+            with contextlib.suppress(ReferenceError):
+                bpy.data.images.remove(img)
+        with contextlib.suppress(OSError):
+            os.remove(path)

@@ -1,0 +1,183 @@
+"""Emitters of a scene and their light groups.
+
+An emitter is a lamp, the world, or a mesh with an emissive material.  Emitters with the
+same spectrum, UV filter and schedule form one light group and are baked into one map:
+their doses add linearly (reciprocity), so one map per group carries all the information
+aging needs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..vocabulary import resolve_spectrum
+from .common import WORLD_EMITTER
+
+
+@dataclass
+class Emitter:
+    """A source of light: a light object, ``"World"``, or an emissive mesh."""
+
+    name: str
+    kind: str  # SUN POINT SPOT AREA WORLD EMISSIVE
+    obj: object = None  # bpy.types.Object, None for the world
+
+
+@dataclass
+class LightGroup:
+    """Emitters sharing spectrum, UV filter and schedule: one exposure map per object."""
+
+    name: str
+    key: tuple
+    emitters: list = field(default_factory=list)
+
+    @property
+    def member_names(self):
+        return [e.name for e in self.emitters]
+
+
+# ----------------------------------------------------------------------- emission tests
+
+
+def emission_sockets(material):
+    """(node, strength input) pairs that make ``material`` emit; linked inputs count as on."""
+    if material is None or material.node_tree is None:
+        return []
+    found = []
+    for node in material.node_tree.nodes:
+        if node.mute:
+            continue
+        if node.type == "EMISSION":
+            strength, color = node.inputs["Strength"], node.inputs["Color"]
+        elif node.type == "BSDF_PRINCIPLED":
+            strength, color = node.inputs["Emission Strength"], node.inputs["Emission Color"]
+        else:
+            continue
+        if _on(strength, color):
+            found.append((node, strength))
+    return found
+
+
+def _on(strength, color):
+    return ((strength.is_linked or strength.default_value > 0.0)
+            and (color.is_linked or max(color.default_value[:3]) > 0.0))
+
+
+def _is_emissive_mesh(obj):
+    return obj.type == "MESH" and any(emission_sockets(s.material) for s in obj.material_slots)
+
+
+def world_emits(world):
+    """The world's Background shader gives light."""
+    if world is None or world.node_tree is None:
+        return False
+    return any(node.type == "BACKGROUND" and not node.mute
+               and _on(node.inputs["Strength"], node.inputs["Color"])
+               for node in world.node_tree.nodes)
+
+
+def world_counts(world):
+    """The world takes part in aging only when the user gave it a spectrum (not Auto).
+
+    Blender's default grey world would otherwise count as daylight through glass.
+    """
+    return (world is not None and world.lightfade.enabled and world.lightfade.spectrum != "AUTO"
+            and world_emits(world))
+
+
+# ----------------------------------------------------------------------- queries
+
+
+def find_emitters(scene, view_layer=None):
+    """The emitters of ``scene`` that take part in aging.
+
+    Lamps with non-zero power, visible to render and with ``Light.lightfade.enabled``;
+    meshes with an emissive material and ``Object.lightfade_emitter.enabled``; the world
+    when :func:`world_counts`.
+
+    Returns
+    -------
+    list of Emitter
+    """
+    view_layer = view_layer or scene.view_layers[0]
+    emitters = []
+    for obj in scene.objects:
+        if obj.hide_render or obj.name not in view_layer.objects:
+            continue
+        if obj.type == "LIGHT":
+            light = obj.data
+            if light.lightfade.enabled and light.energy > 0.0 and max(light.color) > 0.0:
+                emitters.append(Emitter(obj.name, light.type, obj))
+        elif obj.type == "MESH" and obj.lightfade_emitter.enabled and _is_emissive_mesh(obj):
+            emitters.append(Emitter(obj.name, "EMISSIVE", obj))
+    if world_counts(scene.world):
+        emitters.append(Emitter(WORLD_EMITTER, "WORLD", None))
+    return emitters
+
+
+def schedule_of(scene, name, kind):
+    """The ``LIGHTFADE_PG_schedule`` of an emitter, or None if it is gone."""
+    if kind == "WORLD":
+        return scene.world.lightfade if scene.world is not None else None
+    obj = scene.objects.get(name)
+    if obj is None:
+        return None
+    if kind == "EMISSIVE":
+        return obj.lightfade_emitter if obj.type == "MESH" else None
+    return obj.data.lightfade if obj.type == "LIGHT" else None
+
+
+def schedule_key(schedule, kind):
+    """What must match for emitters to share a map: ``(spectrum id, UV filter, h/day, d/yr)``."""
+    return (resolve_spectrum(schedule, kind), bool(schedule.uv_filter),
+            round(float(schedule.hours_per_day), 6), round(float(schedule.days_per_year), 6))
+
+
+def group_name(names):
+    """``"Sun"`` for one emitter, ``"Sun +2"`` for Sun and two more."""
+    names = sorted(names)
+    return names[0] if len(names) == 1 else f"{names[0]} +{len(names) - 1}"
+
+
+def group_emitters(scene, emitters):
+    """Light groups of ``emitters``, in the order of their first member."""
+    groups = {}
+    for em in emitters:
+        key = schedule_key(schedule_of(scene, em.name, em.kind), em.kind)
+        groups.setdefault(key, []).append(em)
+    return [LightGroup(group_name([e.name for e in members]), key, members)
+            for key, members in groups.items()]
+
+
+def find_groups(scene, view_layer=None):
+    """:func:`group_emitters` of :func:`find_emitters`."""
+    return group_emitters(scene, find_emitters(scene, view_layer))
+
+
+# ----------------------------------------------------------------------- isolation
+
+
+def silence_emission(state, obj):
+    """Set every emission strength of ``obj``'s materials to 0 (links cut); undone on exit."""
+    for slot in obj.material_slots:
+        for _node, socket in emission_sockets(slot.material):
+            tree = slot.material.node_tree
+            for link in list(socket.links):
+                from_socket, to_socket = link.from_socket, link.to_socket
+                tree.links.remove(link)
+                state.push(lambda t=tree, a=from_socket, b=to_socket: t.links.new(a, b))
+            state.set(socket, "default_value", 0.0)
+
+
+def isolate(state, scene, group):
+    """Let only ``group``'s emitters shine (other lamps hidden, emission off, no world)."""
+    members = {e.name for e in group.emitters}
+    if not any(e.kind == "WORLD" for e in group.emitters):
+        state.set(scene, "world", None)
+    for obj in scene.objects:  # also what LightFade ignores (disabled) must stay dark
+        if obj.name in members or obj.hide_render:
+            continue
+        if obj.type == "LIGHT":
+            state.set(obj, "hide_render", True)
+        elif _is_emissive_mesh(obj):
+            silence_emission(state, obj)

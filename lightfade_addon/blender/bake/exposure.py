@@ -1,0 +1,399 @@
+"""The exposure bake: one illuminance map (lux) per object and light group, with Cycles.
+
+For each light group (:mod:`.emitters`) every other emitter is switched off and one
+Cycles call bakes the DIFFUSE pass (direct + indirect light, no colour) of all target
+objects at once, each into its own float image through a node added to its real
+materials (:mod:`.targets`).  Each map is then denoised (:mod:`.denoise`), turned into
+the luminance of the irradiance in lux (:mod:`.common`) and, once every group is done,
+stored on the objects (:mod:`.maps`).  Everything the bake changes is put back by
+:class:`.state.BakeState`, also on error or cancel; a cancelled bake stores nothing.
+
+Before any Cycles work, every object is checked (:mod:`.uvmaps`) and all problems are
+reported at once.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import bpy
+import numpy as np
+
+from . import denoise as _denoise
+from . import sizing
+from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
+from .emitters import group_emitters, find_emitters, isolate
+from .maps import members, prune_maps, store_map
+from .presets import PRESETS
+from .state import BakeState
+from .targets import attach_targets, check_bake_result, find_targets, validate_targets
+from .uvmaps import island_map, make_unique_uv, plan_uv
+
+
+@dataclass
+class BakeSettings:
+    """Bake parameters.
+
+    Attributes
+    ----------
+    resolution : int or None
+        Width and height of every map, px; None: from ``texels_per_metre``.
+    samples : int
+        Cycles samples per texel.
+    margin : int
+        Bake margin, px.
+    unwrap : bool
+        Give meshes without a UV map a ``LightFadeUV`` map (otherwise they are skipped).
+    denoise : bool
+        Denoise each map (OIDN, island-aware).
+    texels_per_metre : float
+        Map density when ``resolution`` is None.
+    max_size : int
+        Largest map width from the density.
+    seed : int
+        Cycles seed (two seeds give independent noise).
+    """
+
+    resolution: int | None = None
+    samples: int = PRESETS["FINAL"].samples
+    margin: int = 16
+    unwrap: bool = False
+    denoise: bool = True
+    texels_per_metre: float = 256.0
+    max_size: int = 1024
+    seed: int = 0
+
+    @classmethod
+    def from_scene(cls, scene, unwrap=False):
+        """The scene's settings: quality preset, density, max size (``bake_resolution``)."""
+        props, bake = scene.lightfade, scene.lightfade_bake
+        preset = PRESETS.get(bake.quality)
+        return cls(
+            resolution=None,
+            samples=preset.samples if preset else props.bake_samples,
+            margin=props.bake_margin,
+            unwrap=unwrap,
+            denoise=preset.denoise if preset else bake.denoise,
+            texels_per_metre=bake.texels_per_metre,
+            max_size=props.bake_resolution,
+        )
+
+
+@dataclass
+class _Step:
+    group: object
+    objects: list
+
+
+def _scene_and_layer(context_or_scene):
+    if isinstance(context_or_scene, bpy.types.Scene):
+        scene = context_or_scene
+        layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
+        return scene, layer
+    return context_or_scene.scene, context_or_scene.view_layer
+
+
+class ExposureBake:
+    """A bake in steps (one Cycles call per light group), for operators that stay
+    responsive: :meth:`plan`, then ``with job:`` :meth:`step` until it returns False, then
+    :meth:`commit`.  :func:`bake_exposure` runs it all."""
+
+    def __init__(self, context_or_scene, objects=None, settings=None, report=None,
+                 progress=None, only_changed=False):
+        self.scene, self.view_layer = _scene_and_layer(context_or_scene)
+        self.settings = settings or BakeSettings.from_scene(self.scene)
+        self.report = report or print
+        self.progress = progress
+        self.only_changed = only_changed
+        self.objects = list(objects or [])
+        self.skipped, self.notes = [], []
+        self.state = None
+        self.maps = {}  # object name -> {group name: temp image}
+        self.reused = {}  # object name -> group names kept as they were
+
+    # ------------------------------------------------------------------ planning
+    def plan(self):
+        """Every check that can refuse, before any Cycles work; all problems at once."""
+        scene, layer = self.scene, self.view_layer
+        layer.update()  # objects linked by scripts join view_layer.objects on update
+        objects = self.objects or find_targets(scene)
+        if not objects:
+            raise LightFadeBakeError(
+                "Nothing to bake: select mesh objects, or enable LightFade on their materials "
+                "(Material Properties > LightFade)")
+        targets, warnings, problems = validate_targets(objects, self.settings.unwrap)
+        for msg in warnings:
+            self._warn(msg)
+        emitters = find_emitters(scene, layer)
+        if not emitters:
+            problems.append(
+                "No emitters in the scene: add a lamp or an emissive mesh, or give the world a "
+                "spectrum (Sky Schedule), and keep their LightFade 'Include in Aging' on")
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        self.sizes, self.uv_plans = {}, {}
+        for obj in targets:
+            size = self._size(obj, depsgraph, None)
+            plan = plan_uv(obj, depsgraph, size)
+            if isinstance(plan, str):
+                problems.append(plan)
+            else:
+                self.uv_plans[obj.name] = plan
+                self.sizes[obj.name] = size
+        if problems:
+            raise LightFadeBakeError("\n".join(problems))
+        if not targets:
+            raise LightFadeBakeError("Nothing to bake: " + "; ".join(self.skipped))
+        self.targets = targets
+        self.emitters = emitters
+        self.groups = group_emitters(scene, emitters)
+        self.steps = []
+        for group in self.groups:
+            names = set(group.member_names)
+            objs = [o for o in targets if o.name not in names and not self._reusable(o, group)]
+            if objs:
+                self.steps.append(_Step(group, objs))
+        self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
+                     for s in self.steps]
+        return self
+
+    def _size(self, obj, depsgraph, uv_name):
+        s = self.settings
+        if s.resolution:
+            return int(s.resolution)
+        if uv_name is None:
+            uv_name = obj.data.uv_layers.active.name if obj.data.uv_layers else None
+        world, uv = sizing.surface_and_uv_area(obj, depsgraph, uv_name)
+        return sizing.density_size(world, uv, s.texels_per_metre, s.max_size)
+
+    def _reusable(self, obj, group):
+        """Existing maps of ``obj`` holding exactly ``group``'s emitters (only_changed)."""
+        if not self.only_changed:
+            return None
+        names = set(group.member_names)
+        parts = [item for item in obj.lightfade.exposure_maps
+                 if item.image is not None and {n for n, _ in members(item)} <= names]
+        covered = [n for item in parts for n, _ in members(item)]
+        if sorted(covered) != sorted(names):
+            return None
+        return parts
+
+    def estimate(self):
+        """:class:`.sizing.Estimate` of the planned bake."""
+        sizes = [[self.sizes[o.name] for o in s.objects] for s in self.steps]
+        return sizing.estimate(self.scene, sizes, self.settings.samples, self.settings.denoise)
+
+    def _warn(self, msg):
+        self.skipped.append(msg)
+        self.report(msg)
+
+    # ------------------------------------------------------------------ baking
+    def __enter__(self):
+        if bpy.context.mode != "OBJECT" and bpy.context.object is not None:
+            bpy.ops.object.mode_set(mode="OBJECT")
+        self.state = BakeState(self.scene, self.view_layer).__enter__()
+        try:
+            self._prepare()
+        except BaseException:
+            self.state.__exit__(None, None, None)
+            raise
+        return self
+
+    def _prepare(self):
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        for obj in self.targets:
+            plan = self.uv_plans[obj.name]
+            if plan.make:
+                make_unique_uv(obj, self.view_layer)
+                self.notes.append(plan.note)
+                self.report(plan.note)
+                depsgraph.update()
+                self.sizes[obj.name] = self._size(obj, depsgraph, plan.uv_name)
+            layers = obj.data.uv_layers
+            if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
+                self.state.set(layers, "active_index", layers.find(plan.uv_name))
+        self.state.configure(self.settings.samples, self.settings.margin, self.settings.seed)
+        self.nodes = attach_targets(self.state, self.targets)
+        self.islands = {}
+        if self.settings.denoise:
+            for obj in self.targets:
+                self.islands[obj.name] = island_map(
+                    obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
+                    self.settings.margin)
+        self.done = 0
+        self.start = time.perf_counter()
+
+    def __exit__(self, exc_type, exc, tb):
+        state, self.state = self.state, None
+        return state.__exit__(exc_type, exc, tb)
+
+    def step(self, cancel=None):
+        """Bake the next light group; False when all are done.  ``cancel()`` -> True
+        raises :class:`BakeCancelled` (between bakes)."""
+        if cancel is not None and cancel():
+            raise BakeCancelled("Bake cancelled: nothing was changed")
+        if self.done == len(self.steps):
+            return False
+        step = self.steps[self.done]
+        with BakeState(self.scene, self.view_layer) as inner:
+            isolate(inner, self.scene, step.group)
+            images = {}
+            for obj in step.objects:
+                image = self.state.new_image(f"{obj.name}_{step.group.name}", self.sizes[obj.name])
+                images[obj.name] = image
+                for node in self.nodes[obj.name]:
+                    node.image = image
+            inner.select_only(step.objects)
+            check_bake_result(self.state.bake(), step.objects, step.group)
+        for obj in step.objects:
+            self._finish_map(obj, images[obj.name])
+            self.maps.setdefault(obj.name, {})[step.group.name] = (step.group, images[obj.name])
+        self.done += 1
+        self._report_progress(step)
+        return self.done < len(self.steps)
+
+    def _finish_map(self, obj, image):
+        """Denoise, take the luminance, scale to lux: RGB = lux, A = 1."""
+        n = image.size[0]
+        px = np.empty(n * n * 4, dtype=np.float32)
+        image.pixels.foreach_get(px)
+        px = px.reshape(n, n, 4)
+        rgb = px[..., :3]
+        if self.settings.denoise:
+            guide = _denoise.island_colours(self.islands[obj.name])
+            rgb = _denoise.guard(_denoise.denoise(rgb, guide), rgb)
+        lux = np.maximum(luminance(rgb), 0.0) * LUX_PER_BAKE_UNIT
+        px[..., :3] = lux[..., None]
+        px[..., 3] = 1.0
+        image.pixels.foreach_set(px.ravel())
+
+    def _report_progress(self, step):
+        done_work = sum(self.work[:self.done])
+        fraction = done_work / max(sum(self.work), 1)
+        elapsed = time.perf_counter() - self.start
+        left = elapsed / fraction * (1 - fraction) if fraction > 0 else 0.0
+        names = ", ".join(o.name for o in step.objects[:3]) + ("…" if len(step.objects) > 3 else "")
+        message = (f"baked {names} <- {step.group.name} [{self.done}/{len(self.steps)}] "
+                   f"{elapsed:.1f} s, ~{sizing.format_seconds(left)} left")
+        if self.progress is not None:
+            self.progress(fraction, message)
+        else:
+            print(f"LightFade: {message}", flush=True)
+
+    # ------------------------------------------------------------------ storing
+    def commit(self):
+        """Store every baked map on its object (only after all groups are done)."""
+        result = {}
+        for obj in self.targets:
+            kept = {g.name for g in self.groups if self._reusable(obj, g)}
+            for group in self.groups:
+                parts = self._reusable(obj, group)
+                if parts and [p.name for p in parts] != [group.name]:
+                    self._merge(obj, group, parts)
+            baked = self.maps.get(obj.name, {})
+            for name, (group, image) in baked.items():
+                self.state.keep(image)
+                store_map(obj, group, image, self.uv_plans[obj.name].uv_name)
+            prune_maps(obj, kept | set(baked))
+            result[obj.name] = {item.name: item.image for item in obj.lightfade.exposure_maps}
+        return result
+
+    def _merge(self, obj, group, parts):
+        """Sum existing maps into ``group``'s map (a regroup without a bake)."""
+        images = [p.image for p in parts]
+        w, h = images[0].size
+        total = np.zeros(w * h * 4, dtype=np.float32)
+        buf = np.empty_like(total)
+        for image in images:
+            if tuple(image.size) != (w, h):
+                raise LightFadeBakeError(f"\"{obj.name}\": maps of different sizes cannot be "
+                                         "regrouped: bake exposure again")
+            image.pixels.foreach_get(buf)
+            total += buf
+        total[3::4] = 1.0
+        merged = self.state.new_image(f"{obj.name}_{group.name}", w, h)
+        merged.pixels.foreach_set(total)
+        self.state.keep(merged)
+        store_map(obj, group, merged, obj.lightfade.uv_map or self.uv_plans[obj.name].uv_name)
+
+
+def bake_exposure(context_or_scene, objects=None, settings=None, report=None, progress=None,
+                  cancel=None, only_changed=False):
+    """Bake one illuminance map (lux) per (mesh, light group) pair.
+
+    Parameters
+    ----------
+    context_or_scene : bpy.types.Context or bpy.types.Scene
+        Where to bake; with a scene, its first view layer (or the current one).
+    objects : iterable of bpy.types.Object, optional
+        Objects to bake; empty or None: every mesh using a material with LightFade enabled.
+    settings : BakeSettings, optional
+        Default: :meth:`BakeSettings.from_scene`.
+    report : callable(str), optional
+        Warnings and notes (skipped objects, UV maps made); default: print.
+    progress : callable(fraction, message), optional
+        Called after each Cycles bake; default: one printed line per bake.
+    cancel : callable() -> bool, optional
+        Checked between bakes; True cancels (settings restored, no map stored).
+    only_changed : bool
+        Keep maps whose light group did not change; sum maps of groups that merged.
+
+    Returns
+    -------
+    dict
+        ``{"maps": {object: {group: Image}}, "skipped": [messages], "notes": [messages],
+        "groups": [(group, [emitters])], "emitters": [(name, kind)], "seconds": float}``.
+        Image pixels are lux (R = G = B = luminance of the irradiance).
+
+    Raises
+    ------
+    LightFadeBakeError
+        Nothing to bake, no emitters, linked data, overlapping UVs from a modifier... (all
+        problems, one per line); :class:`.common.BakeCancelled` when cancelled.
+    """
+    job = ExposureBake(context_or_scene, objects, settings, report, progress, only_changed)
+    job.plan()
+    start = time.perf_counter()
+    with job:
+        while job.step(cancel):
+            pass
+        if cancel is not None and cancel():
+            raise BakeCancelled("Bake cancelled: nothing was changed")
+        maps = job.commit()
+    return {
+        "maps": maps,
+        "skipped": job.skipped,
+        "notes": job.notes,
+        "groups": [(g.name, g.member_names) for g in job.groups],
+        "emitters": [(e.name, e.kind) for e in job.emitters],
+        "seconds": time.perf_counter() - start,
+    }
+
+
+def calibrate(context_or_scene, obj=None):
+    """Time two tiny bakes of one target on this scene; store and return the rate.
+
+    Returns ``(texel-samples per second, seconds per call)``; :func:`.sizing.estimate`
+    uses it for this scene.
+    """
+    scene, layer = _scene_and_layer(context_or_scene)
+    objects = [obj] if obj is not None else None
+    job = ExposureBake(scene, objects, BakeSettings(resolution=32, samples=1, denoise=False),
+                       report=lambda msg: None, progress=lambda f, m: None).plan()
+    target = job.targets[:1]
+    group = job.groups[0]
+
+    def run(size, samples):
+        with BakeState(scene, layer) as state:
+            state.configure(samples, 0)
+            nodes = attach_targets(state, target)
+            image = state.new_image("calibration", size)
+            for node in nodes[target[0].name]:
+                node.image = image
+            isolate(state, scene, group)
+            state.select_only(target)
+            check_bake_result(state.bake(), target, group)
+
+    rate = sizing.calibrate(run)
+    sizing.CALIBRATION[scene.session_uid] = rate
+    return rate

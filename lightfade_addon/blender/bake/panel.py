@@ -1,0 +1,112 @@
+"""What the Exposure Bake panel shows: quality presets with their measured cost, texel
+density and map sizes, the light groups, and an estimate of the bake before it starts."""
+
+from __future__ import annotations
+
+import bpy
+
+from . import sizing
+from .common import LUX_PER_BAKE_UNIT, luminance
+from .emitters import find_emitters, group_emitters, world_counts
+from .exposure import BakeSettings
+from .presets import PRESETS
+from .targets import find_targets, validate_targets
+
+#: Targets whose sizes the panel lists (the estimate covers all of them).
+LIST_LIMIT = 8
+
+_SIZE_CACHE = {}
+
+
+def _size(obj, depsgraph, settings):
+    """Map width of ``obj`` under ``settings`` (cached on what it depends on)."""
+    uv = obj.lightfade.uv_map if obj.lightfade.uv_map in obj.data.uv_layers else (
+        obj.data.uv_layers.active.name if obj.data.uv_layers else None)
+    key = (obj.name, obj.data.name, len(obj.data.polygons), tuple(map(tuple, obj.matrix_world)),
+           uv, settings.texels_per_metre, settings.max_size, settings.resolution)
+    if key not in _SIZE_CACHE:
+        if settings.resolution:
+            _SIZE_CACHE[key] = int(settings.resolution)
+        else:
+            world, uv_area = sizing.surface_and_uv_area(obj, depsgraph, uv)
+            _SIZE_CACHE[key] = sizing.density_size(world, uv_area, settings.texels_per_metre,
+                                                   settings.max_size)
+        if len(_SIZE_CACHE) > 512:
+            _SIZE_CACHE.clear()
+    return _SIZE_CACHE[key]
+
+
+def world_lux(world):
+    """Illuminance of an open horizontal plane under the world's Background (lux)."""
+    for node in world.node_tree.nodes:
+        if node.type == "BACKGROUND" and not node.mute:
+            colour = luminance(tuple(node.inputs["Color"].default_value[:3]))
+            return float(node.inputs["Strength"].default_value * colour * LUX_PER_BAKE_UNIT)
+    return 0.0
+
+
+def _draw_presets(layout, bake):
+    col = layout.column(align=True)
+    col.prop(bake, "quality")
+    for key, preset in PRESETS.items():
+        row = col.row()
+        row.active = bake.quality == key
+        row.label(text=f"{preset.label}: {preset.samples} spp, denoised — "
+                       f"{preset.relative_time:.0%} of the old time, noise "
+                       f"{preset.noise_lit:.1%} lit / {preset.noise_shadow:.0%} shadow")
+
+
+def _draw_groups(layout, scene, emitters):
+    box = layout.box()
+    groups = group_emitters(scene, emitters)
+    box.label(text=f"{len(groups)} light group(s) from {len(emitters)} emitter(s)", icon="LIGHT")
+    for group in groups:
+        spectrum, uv_filter, hours, days = group.key
+        names = ", ".join(group.member_names)
+        row = box.row()
+        row.label(text=names)
+        row.label(text=f"{spectrum}{' +UV filter' if uv_filter else ''}, {hours:g} h × {days:g} d")
+    world = scene.world
+    if world is not None and world_counts(world):
+        box.label(text=f"World: {world_lux(world):,.0f} lx on open ground", icon="WORLD")
+    elif world is not None:
+        box.label(text="World not counted: give it a spectrum (Sky Schedule)", icon="INFO")
+    return groups
+
+
+def draw_bake_panel(layout, context):
+    """Draw the Exposure Bake panel into ``layout``."""
+    scene = context.scene
+    props, bake = scene.lightfade, scene.lightfade_bake
+    layout.use_property_split = True
+    _draw_presets(layout, bake)
+    col = layout.column(align=True)
+    if bake.quality == "CUSTOM":
+        col.prop(props, "bake_samples")
+        col.prop(bake, "denoise")
+    col.prop(bake, "texels_per_metre")
+    col.prop(props, "bake_resolution", text="Max Size")
+    col.prop(props, "bake_margin")
+
+    view_layer = getattr(context, "view_layer", None) or scene.view_layers[0]
+    emitters = find_emitters(scene, view_layer)
+    groups = _draw_groups(layout, scene, emitters)
+    settings = BakeSettings.from_scene(scene)
+    selected = list(getattr(context, "selected_objects", None) or []) or find_targets(scene)
+    targets, _, _ = validate_targets(selected, True)
+    if targets and groups:
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        sizes = {o.name: _size(o, depsgraph, settings) for o in targets}
+        box = layout.box()
+        for obj in targets[:LIST_LIMIT]:
+            box.label(text=f"{obj.name}: {sizes[obj.name]}²", icon="OBJECT_DATA")
+        if len(targets) > LIST_LIMIT:
+            box.label(text=f"… and {len(targets) - LIST_LIMIT} more")
+        per_group = [[sizes[o.name] for o in targets if o.name not in g.member_names] for g in groups]
+        est = sizing.estimate(scene, per_group, settings.samples, settings.denoise)
+        row = box.row()
+        row.label(text=est.text(), icon="TIME")
+        row.operator("lightfade.bake_calibrate", text="", icon="PREVIEW_RANGE")
+    row = layout.row(align=True)
+    row.operator("lightfade.bake_exposure", icon="RENDER_STILL")
+    row.prop(bake, "only_changed", text="Changed Groups Only")

@@ -1,0 +1,141 @@
+"""What a bake leaves in the .blend: exposure-map records and the bake settings.
+
+``Object.lightfade`` (:class:`LIGHTFADE_PG_object`)
+    The exposure maps of a mesh, one per light group (:class:`LIGHTFADE_PG_exposure_map`),
+    the UV map they were baked on, and whether LightFade made that UV map.
+``Scene.lightfade_bake`` (:class:`LIGHTFADE_PG_bake_settings`)
+    Quality preset, texel density and denoising of the exposure bake.  The largest map
+    size, the custom sample count and the margin stay in ``Scene.lightfade``
+    (``bake_resolution``, ``bake_samples``, ``bake_margin``).
+
+Registered by :func:`register` (classes, then pointers), undone by :func:`unregister`.
+"""
+
+import bpy
+from bpy.props import (
+    BoolProperty,
+    CollectionProperty,
+    EnumProperty,
+    FloatProperty,
+    IntProperty,
+    PointerProperty,
+    StringProperty,
+)
+from bpy.types import PropertyGroup
+
+from ..vocabulary import EMITTER_KIND_ITEMS
+from .presets import PRESETS
+
+class LIGHTFADE_PG_emitter_ref(PropertyGroup):
+    """One emitter of a light group (``name`` is the light object, "World" or the mesh)."""
+
+    kind: EnumProperty(name="Kind", items=EMITTER_KIND_ITEMS, default="SUN")
+
+class LIGHTFADE_PG_exposure_map(PropertyGroup):
+    """One baked exposure map: the illuminance (lux) one light group gives each texel.
+
+    ``name`` (inherited) is the group's name: the first emitter's name, with ``+N`` when
+    N more emitters share its spectrum and schedule.
+    """
+
+    emitter: StringProperty(
+        name="Emitter",
+        description="First emitter of the group (light object name, \"World\", or emissive object name)",
+    )
+    emitter_kind: EnumProperty(
+        name="Emitter Kind",
+        description="Type of the group's first emitter",
+        items=EMITTER_KIND_ITEMS,
+        default="SUN",
+    )
+    members: CollectionProperty(
+        type=LIGHTFADE_PG_emitter_ref,
+        name="Emitters",
+        description="The emitters baked together into this map (same spectrum, UV filter and schedule)",
+    )
+    image: PointerProperty(
+        name="Exposure Image",
+        type=bpy.types.Image,
+        description="Float image (packed) holding illuminance in lux per texel (luminance of the "
+        "baked irradiance) while the group is on",
+    )
+
+class LIGHTFADE_PG_object(PropertyGroup):
+    """Exposure maps baked for a mesh object."""
+
+    exposure_maps: CollectionProperty(
+        type=LIGHTFADE_PG_exposure_map,
+        name="Exposure Maps",
+        description="One illuminance map per light group",
+    )
+    active_map_index: IntProperty(
+        name="Active Exposure Map",
+        description="Index of the exposure map shown in the panel list",
+        default=0,
+        min=0,
+    )
+    uv_map: StringProperty(
+        name="UV Map",
+        description="UV map the exposure maps were baked on (the aged textures must use the same one)",
+    )
+    uv_created: BoolProperty(
+        name="UV Map Made by LightFade",
+        description="LightFade made the UV map (the mesh's own UVs overlap): Reset removes it",
+        default=False,
+    )
+
+QUALITY_ITEMS = tuple(
+    (key, preset.label, preset.description) for key, preset in PRESETS.items()
+) + (("CUSTOM", "Custom", "The samples and denoising set below"),)
+
+class LIGHTFADE_PG_bake_settings(PropertyGroup):
+    """How exposure is baked: quality preset, texel density, denoising."""
+
+    quality: EnumProperty(
+        name="Quality",
+        description="Samples and denoising of the exposure bake",
+        items=QUALITY_ITEMS,
+        default="FINAL",
+    )
+    denoise: BoolProperty(
+        name="Denoise",
+        description="Denoise each map with Open Image Denoise (Custom quality)",
+        default=True,
+    )
+    only_changed: BoolProperty(
+        name="Changed Groups Only",
+        description="Bake only light groups whose emitters changed; keep the other maps, and add "
+        "up maps of groups that merged (a schedule made equal) without baking",
+        default=False,
+    )
+    texels_per_metre: FloatProperty(
+        name="Texels per Metre",
+        description="Exposure map density: map size follows each object's surface area, up to "
+        "the Max Size",
+        default=256.0,
+        min=1.0,
+        soft_max=2048.0,
+    )
+
+CLASSES = (
+    LIGHTFADE_PG_emitter_ref,
+    LIGHTFADE_PG_exposure_map,
+    LIGHTFADE_PG_object,
+    LIGHTFADE_PG_bake_settings,
+)
+
+#: (ID type, attribute, property group): attached in order, removed in reverse.
+POINTERS = (
+    (bpy.types.Object, "lightfade", LIGHTFADE_PG_object),
+    (bpy.types.Scene, "lightfade_bake", LIGHTFADE_PG_bake_settings),
+)
+
+def register_pointers():
+    for id_type, attr, group in POINTERS:
+        setattr(id_type, attr, PointerProperty(type=group, name="LightFade",
+                                               description="LightFade settings"))
+
+def unregister_pointers():
+    for id_type, attr, _group in reversed(POINTERS):
+        if hasattr(id_type, attr):
+            delattr(id_type, attr)

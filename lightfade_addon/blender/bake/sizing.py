@@ -1,0 +1,120 @@
+"""Map sizes from a texel density, and bake-time estimates from a calibration bake.
+
+An object of world-space surface ``A`` (m²) whose UV islands cover a share ``a`` of the
+0-1 square gets an ``N × N`` map with ``N = d √(A / a)`` for a density of ``d`` texels
+per metre, rounded up to a multiple of 8 and capped.  Cycles' bake time grows with
+texels × samples (per-call overhead is small); a tiny calibration bake on the scene
+measures the rate.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .uvmaps import evaluated_mesh, triangle_uvs
+
+MIN_SIZE = 16
+#: Share of the 0-1 square Smart UV Project typically fills (for a map not made yet).
+UNWRAP_FILL = 0.6
+#: Denoising cost, seconds per million texels on 2 cores (measured, docs/bake.md).
+DENOISE_SECONDS_PER_MTEXEL = 2.0
+
+
+def _areas(tri3, tri_uv):
+    world = 0.5 * np.linalg.norm(np.cross(tri3[:, 1] - tri3[:, 0], tri3[:, 2] - tri3[:, 0]), axis=1)
+    e1, e2 = tri_uv[:, 1] - tri_uv[:, 0], tri_uv[:, 2] - tri_uv[:, 0]
+    uv = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    return float(world.sum()), float(uv.sum())
+
+
+def surface_and_uv_area(obj, depsgraph, uv_name):
+    """World-space area (m²) of ``obj`` as rendered, and its UV area in ``uv_name`` (0-1 units).
+
+    Without ``uv_name`` the UV area is :data:`UNWRAP_FILL`.
+    """
+    with evaluated_mesh(obj, depsgraph) as mesh:
+        mesh.calc_loop_triangles()
+        n = len(mesh.loop_triangles)
+        verts = np.empty(n * 3, dtype=np.int64)
+        mesh.loop_triangles.foreach_get("vertices", verts)
+        co = np.empty(len(mesh.vertices) * 3, dtype=np.float64)
+        mesh.vertices.foreach_get("co", co)
+        matrix = np.array(obj.matrix_world, dtype=np.float64)
+        co = co.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
+        tri3 = co[verts].reshape(n, 3, 3)
+        if uv_name and uv_name in mesh.uv_layers:
+            world, uv = _areas(tri3, triangle_uvs(mesh, uv_name)[0])
+        else:
+            world, uv = _areas(tri3, np.zeros((n, 3, 2)))[0], UNWRAP_FILL
+    return world, uv
+
+
+def density_size(world_area, uv_area, texels_per_metre, max_size):
+    """Map width (= height) for ``texels_per_metre``: a multiple of 8 in [16, max_size]."""
+    if world_area <= 0 or uv_area <= 0:
+        return MIN_SIZE
+    n = texels_per_metre * math.sqrt(world_area / min(uv_area, 1.0))
+    n = int(math.ceil(n / 8.0) * 8)
+    cap = max(MIN_SIZE, int(max_size) // 8 * 8)
+    return int(min(max(n, MIN_SIZE), cap))
+
+
+@dataclass
+class Estimate:
+    """What a bake will cost: texel-samples, Cycles calls, and seconds when calibrated."""
+
+    texel_samples: float
+    texels: float
+    calls: int
+    seconds: float | None
+
+    def text(self):
+        work = f"{self.texel_samples / 1e6:,.1f} M texel·samples"
+        if self.seconds is None:
+            return work + " (press Calibrate for a time)"
+        return work + f", ~{format_seconds(self.seconds)}"
+
+
+def format_seconds(s):
+    return f"{s:.0f} s" if s < 90 else f"{s / 60:.1f} min"
+
+
+#: scene session_uid -> (texel-samples per second, seconds per call), from :func:`calibrate`.
+CALIBRATION = {}
+
+
+def estimate(scene, sizes_by_group, samples, denoise):
+    """Estimate the bake of ``sizes_by_group`` (a list, per group, of map widths)."""
+    texels = float(sum(n * n for sizes in sizes_by_group for n in sizes))
+    work = texels * samples
+    calls = sum(1 for sizes in sizes_by_group if sizes)
+    seconds = None
+    rate = CALIBRATION.get(scene.session_uid)
+    if rate is not None:
+        per_texel_sample, per_call = rate
+        seconds = work / per_texel_sample + calls * per_call
+        if denoise:
+            seconds += texels / 1e6 * DENOISE_SECONDS_PER_MTEXEL
+    return Estimate(work, texels, calls, seconds)
+
+
+def calibrate(run_bake):
+    """Measure the bake rate with two tiny bakes: ``run_bake(size, samples)`` bakes once.
+
+    Returns ``(texel-samples per second, seconds per call)``: the slope and intercept of
+    the time of a 32², 1-sample bake and a 128², 16-sample bake.
+    """
+    times = []
+    work = []
+    for size, samples in ((32, 1), (128, 16)):
+        t0 = time.perf_counter()
+        run_bake(size, samples)
+        times.append(time.perf_counter() - t0)
+        work.append(size * size * samples)
+    slope = max((times[1] - times[0]) / (work[1] - work[0]), 1e-9)
+    overhead = max(times[0] - slope * work[0], 0.0)
+    return 1.0 / slope, overhead

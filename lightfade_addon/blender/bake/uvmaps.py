@@ -1,0 +1,201 @@
+"""The UV map each object's exposure is baked on, checked before any Cycles work.
+
+A bake writes every texel once: where two faces share texels, the map mixes their light
+(a mirrored half in shadow fades with the lit half).  So before baking, the triangles of
+the UV map *as baked* (the evaluated mesh, modifiers included) are rasterised at the map's
+resolution (:mod:`.raster`) and:
+
+* overlap or UVs outside 0-1 in the mesh's own UVs: LightFade makes a unique UV map
+  ``LightFadeUV`` (Smart UV Project into a new map; the user's maps are left alone) and
+  says so;
+* overlap made by a modifier (Mirror, Array, Solidify...): a unique UV of the evaluated
+  mesh would need the modifier applied, so the object is refused with one line naming the
+  object, the modifier and the fix.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from dataclasses import dataclass
+
+import bpy
+import numpy as np
+
+from . import raster
+from .common import UV_MAP_NAME
+
+#: Share of covered texels that may overlap (rasterisation round-off on shared edges).
+OVERLAP_TOLERANCE = 1e-3
+
+
+@dataclass
+class UvPlan:
+    """Where an object's exposure goes: ``uv_name``, made by LightFade when ``make``."""
+
+    uv_name: str
+    make: bool = False
+    note: str = ""
+
+
+# ----------------------------------------------------------------------- mesh arrays
+
+
+def triangle_uvs(mesh, uv_name):
+    """(T, 3, 2) UVs of the mesh's triangles in map ``uv_name``, and (T,) their polygons."""
+    mesh.calc_loop_triangles()
+    n = len(mesh.loop_triangles)
+    loops = np.empty(n * 3, dtype=np.int64)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    poly = np.empty(n, dtype=np.int64)
+    mesh.loop_triangles.foreach_get("polygon_index", poly)
+    uv = np.empty(len(mesh.loops) * 2, dtype=np.float64)
+    mesh.uv_layers[uv_name].data.foreach_get("uv", uv)
+    return uv.reshape(-1, 2)[loops].reshape(n, 3, 2), poly
+
+
+def polygon_islands(mesh, uv_name):
+    """(P,) UV island label of each polygon of ``mesh`` in map ``uv_name``."""
+    n = len(mesh.loops)
+    vert = np.empty(n, dtype=np.int64)
+    mesh.loops.foreach_get("vertex_index", vert)
+    uv = np.empty(n * 2, dtype=np.float64)
+    mesh.uv_layers[uv_name].data.foreach_get("uv", uv)
+    sizes = np.empty(len(mesh.polygons), dtype=np.int64)
+    mesh.polygons.foreach_get("loop_total", sizes)
+    poly = np.repeat(np.arange(len(sizes)), sizes)
+    return raster.island_labels(vert, uv.reshape(-1, 2), poly)
+
+
+@contextlib.contextmanager
+def evaluated_mesh(obj, depsgraph):
+    """The mesh ``obj`` is rendered (and baked) with: modifiers applied, object space."""
+    obj_eval = obj.evaluated_get(depsgraph)
+    mesh = obj_eval.to_mesh()
+    try:
+        yield mesh
+    finally:
+        obj_eval.to_mesh_clear()
+
+
+def island_map(obj, depsgraph, uv_name, size, margin):
+    """(size, size) island label per texel of ``obj``'s baked UVs, grown by ``margin``."""
+    with evaluated_mesh(obj, depsgraph) as mesh:
+        tri, poly = triangle_uvs(mesh, uv_name)
+        labels = polygon_islands(mesh, uv_name)[poly]
+    _, label = raster.rasterise(tri, size, labels, strict=False)
+    return raster.dilate_labels(label, margin)
+
+
+# ----------------------------------------------------------------------- checks
+
+
+def _overlaps(tri, size):
+    count, _ = raster.rasterise(tri, size)
+    covered = np.count_nonzero(count)
+    return np.count_nonzero(count > 1) > max(2, OVERLAP_TOLERANCE * covered)
+
+
+def _evaluated_overlaps(obj, depsgraph, uv_name, size):
+    with evaluated_mesh(obj, depsgraph) as mesh:
+        if uv_name not in mesh.uv_layers:
+            return False
+        return _overlaps(triangle_uvs(mesh, uv_name)[0], size)
+
+
+def _own_problem(mesh, uv_name, size):
+    """Why the mesh's own UVs cannot take exposure (overlap, outside 0-1), or ''."""
+    tri, _ = triangle_uvs(mesh, uv_name)
+    if raster.outside_unit_square(tri) > 0:
+        return "its UVs reach outside the 0-1 square"
+    if _overlaps(tri, size):
+        return "its UV islands overlap"
+    return ""
+
+
+def culprit_modifier(obj, depsgraph, uv_name, size):
+    """The first viewport modifier after which ``uv_name`` overlaps, or None."""
+    mods = [m for m in obj.modifiers if m.show_viewport]
+    saved = [m.show_viewport for m in mods]
+    try:
+        for k, mod in enumerate(mods):
+            for i, m in enumerate(mods):
+                m.show_viewport = i <= k
+            depsgraph.update()
+            if _evaluated_overlaps(obj, depsgraph, uv_name, size):
+                return mod
+    finally:
+        for m, on in zip(mods, saved):
+            m.show_viewport = on
+        depsgraph.update()
+    return None
+
+
+_FIXES = {
+    "MIRROR": "apply it (Ctrl+A), or turn on its Mirror U/V with an offset so the halves use "
+              "different UVs",
+    "ARRAY": "apply it (Ctrl+A), or set its Offset U/V so the copies use different UVs",
+}
+
+
+def modifier_problem(obj, mod):
+    """One line naming the object, the modifier and the fix."""
+    fix = _FIXES.get(mod.type, "apply it (Ctrl+A) and bake again")
+    return (f"\"{obj.name}\": its {mod.type.title()} modifier \"{mod.name}\" makes faces share "
+            f"UV texels, so one texel would get the light of several places: {fix}")
+
+
+def plan_uv(obj, depsgraph, size):
+    """How ``obj`` will be baked: its :class:`UvPlan`, or a problem line (str)."""
+    mesh = obj.data
+    made = obj.lightfade.uv_created and UV_MAP_NAME in mesh.uv_layers
+    uv_name = UV_MAP_NAME if made else (mesh.uv_layers.active.name if mesh.uv_layers else "")
+    if not uv_name:
+        return UvPlan(UV_MAP_NAME, make=True, note=f"\"{obj.name}\" has no UV map: made "
+                      f"\"{UV_MAP_NAME}\" for its exposure")
+    if not _evaluated_overlaps(obj, depsgraph, uv_name, size) and not (
+            raster.outside_unit_square(triangle_uvs(mesh, uv_name)[0]) > 0):
+        return UvPlan(uv_name)
+    own = _own_problem(mesh, uv_name, size)
+    if own and not made:
+        return UvPlan(UV_MAP_NAME, make=True,
+                      note=f"\"{obj.name}\": {own} in \"{uv_name}\": made \"{UV_MAP_NAME}\" "
+                      "for its exposure (your UV maps are unchanged)")
+    mod = culprit_modifier(obj, depsgraph, uv_name, size)
+    if mod is not None:
+        return modifier_problem(obj, mod)
+    return (f"\"{obj.name}\": {own or 'its UVs overlap'} in \"{uv_name}\": unwrap it without "
+            "overlaps (U > Smart UV Project) and bake again")
+
+
+def make_unique_uv(obj, view_layer, island_margin=0.02):
+    """Smart UV Project ``obj``'s mesh into a new map ``LightFadeUV`` (active map kept).
+
+    Returns the new map's name.  Records ``obj.lightfade.uv_created`` so a reset removes it.
+    """
+    mesh = obj.data
+    layers = mesh.uv_layers
+    active = layers.active.name if layers.active else None
+    layer = layers.get(UV_MAP_NAME) or layers.new(name=UV_MAP_NAME, do_init=False)
+    layers.active = layer
+    for o in view_layer.objects:
+        o.select_set(False)
+    obj.select_set(True)
+    view_layer.objects.active = obj
+    bpy.ops.object.mode_set(mode="EDIT")
+    try:
+        bpy.ops.mesh.select_all(action="SELECT")
+        bpy.ops.uv.smart_project(island_margin=island_margin)
+    finally:
+        bpy.ops.object.mode_set(mode="OBJECT")
+        if active is not None:
+            layers.active = layers[active]
+    obj.lightfade.uv_created = True
+    return UV_MAP_NAME
+
+
+def remove_made_uv(obj):
+    """Remove the ``LightFadeUV`` map if LightFade made it."""
+    layers = obj.data.uv_layers
+    if obj.lightfade.uv_created and UV_MAP_NAME in layers:
+        layers.remove(layers[UV_MAP_NAME])
+    obj.lightfade.uv_created = False

@@ -1,0 +1,44 @@
+"""Image pixels as arrays: resampling and colour-space decoding."""
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from lightfade_addon.blender.pixels import read_linear, read_rgba, resample  # noqa: E402
+from lightfade_addon.core.colorimetry import srgb_decode  # noqa: E402
+
+
+class TestResample:
+    def test_same_shape_is_the_identity(self):
+        a = np.random.default_rng(1).random((5, 7))
+        assert resample(a, (5, 7)) is a
+
+    def test_a_linear_ramp_stays_exact_inside(self):
+        """Texel centres of a finer grid on a linear ramp fall on the ramp."""
+        x = (np.arange(8) + 0.5) / 8
+        a = np.tile(x, (4, 1))
+        b = resample(a, (4, 16))
+        X = (np.arange(16) + 0.5) / 16
+        inside = (X >= x[0]) & (X <= x[-1])
+        np.testing.assert_allclose(b[:, inside], np.tile(X[inside], (4, 1)), atol=1e-12)
+        assert b.min() >= a.min() and b.max() <= a.max()
+
+    def test_downsampling_keeps_a_constant(self):
+        np.testing.assert_allclose(resample(np.full((64, 32), 3.5), (7, 9)), 3.5)
+
+
+def test_srgb_byte_images_are_decoded_linear_and_float_are_not(blender):
+    px = np.empty((2, 2, 4), np.float32)
+    px[...] = (0.5, 0.25, 1.0, 1.0)
+    byte = bpy.data.images.new("byte", 2, 2)
+    byte.pixels.foreach_set(px.ravel())
+    flt = bpy.data.images.new("float", 2, 2, float_buffer=True)
+    flt.pixels.foreach_set(px.ravel())
+    data = bpy.data.images.new("data", 2, 2)
+    data.colorspace_settings.name = "Non-Color"
+    data.pixels.foreach_set(px.ravel())
+    np.testing.assert_allclose(read_linear(byte)[0, 0, :3],
+                               srgb_decode(read_rgba(byte)[0, 0, :3]), atol=1e-6)
+    np.testing.assert_allclose(read_linear(flt)[0, 0, :3], (0.5, 0.25, 1.0))
+    np.testing.assert_allclose(read_linear(data)[0, 0, :3], read_rgba(data)[0, 0, :3])

@@ -1,0 +1,306 @@
+"""One source of truth: stale after a new bake, exact round trips through huge years,
+bad years refused, pixels in range, an exact reset, a file that does not grow, a fresh
+process that agrees, schedules honoured, the debounce."""
+
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+
+def rgba(image):
+    a = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
+    image.pixels.foreach_get(a)
+    return a.reshape(image.size[1], image.size[0], 4)
+
+
+def the_copy(material):
+    from lightfade_addon.blender.copies import copies_of
+
+    (copy,) = copies_of(material)
+    return copy
+
+
+def aged(material):
+    return rgba(the_copy(material).lightfade.aged_image)
+
+
+@pytest.fixture
+def carpet(floor_scene):
+    """The floor scene (64² uniform red albedo, a box casting a shadow), baked."""
+    albedo = floor_scene["albedo"]
+    albedo.scale(64, 64)
+    px = np.empty((64, 64, 4), np.float32)
+    px[...] = (0.8, 0.2, 0.45, 1.0)
+    albedo.pixels.foreach_set(px.ravel())
+    albedo.pack()
+    floor_scene["material"].lightfade.recipe = "DYED_FABRIC"
+    floor_scene["sun"].data.energy = 30.0
+    assert bpy.ops.lightfade.bake_exposure() == {"FINISHED"}
+    return floor_scene
+
+
+def dE(a, b):
+    """CIEDE2000 per texel between two linear RGBA images."""
+    from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ
+
+    def lab(x):
+        return XYZ_to_Lab(linear_srgb_to_XYZ(x[..., :3].reshape(-1, 3).astype(float)))
+
+    return delta_E_2000(lab(a), lab(b))
+
+
+def grids(scene):
+    from lightfade_addon.blender.grids import SceneGridStore
+
+    return len(SceneGridStore(scene))
+
+
+class TestStale:
+    def test_rebake_marks_stale_and_the_next_years_change_updates(self, carpet):
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        api.age_scene(scene, years=10)
+        old = aged(carpet["material"]).copy()
+        carpet["box"].location.x -= 0.8                   # the shadow moves
+        assert bpy.ops.lightfade.bake_exposure() == {"FINISHED"}
+        (row,) = api.material_plan(scene)
+        assert row["status"].startswith("stale")
+        api.set_years(scene, 10)
+        now = aged(carpet["material"]).copy()
+        assert np.abs(now - old).max() > 0.05
+        assert api.material_plan(scene)[0]["status"] == "aged"
+        api.age_scene(scene, years=10)                     # a fresh Age agrees exactly
+        np.testing.assert_allclose(aged(carpet["material"]), now, atol=1e-6)
+
+    def test_changed_schedule_or_recipe_marks_stale(self, carpet):
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        api.age_scene(scene, years=10)
+        carpet["sun"].data.lightfade.hours_per_day = 2.0
+        assert api.material_plan(scene)[0]["status"].startswith("stale")
+        api.set_years(scene, 10)
+        carpet["material"].lightfade.blue_wool = 6
+        assert api.material_plan(scene)[0]["status"].startswith("stale")
+
+
+class TestYears:
+    def test_huge_years_round_trip_is_exact_and_stores_one_grid(self, carpet):
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        api.age_scene(scene, years=20)
+        twenty = aged(carpet["material"]).copy()
+        for far in (1e3, 1e6):
+            api.set_years(scene, far)
+            assert np.abs(aged(carpet["material"]) - twenty).max() > 0.01
+            api.set_years(scene, 20)
+            assert np.abs(aged(carpet["material"]) - twenty).max() < 1e-4
+        assert grids(scene) == 1
+
+    def test_above_100_years_agrees_with_an_age_at_that_many_years(self, carpet):
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        api.age_scene(scene, years=5)                      # prepared up to 100 years
+        api.set_years(scene, 100)
+        hundred = aged(carpet["material"]).copy()
+        bpy.context.scene.lightfade.years = 150            # the slider, past the range
+        slider = aged(carpet["material"]).copy()
+        assert np.abs(slider - hundred).max() > 0.005
+        api.age_scene(scene, years=150)                    # prepared up to 300 years
+        assert np.percentile(dE(slider, aged(carpet["material"])), 99) < 1
+
+    @pytest.mark.parametrize("years", [0, 50, 500])
+    def test_every_written_pixel_is_finite_and_in_range(self, carpet, years):
+        from lightfade_addon import api
+
+        carpet["material"].lightfade.recipe = "PRINTED_PAPER"
+        px = np.empty((64, 64, 4), np.float32)
+        px[...] = (0.05, 0.9, 1.0, 1.0)                    # saturated: fading leaves the gamut
+        carpet["albedo"].pixels.foreach_set(px.ravel())
+        api.age_scene(bpy.context.scene, years=years)
+        a = aged(carpet["material"])
+        assert np.isfinite(a).all() and a.min() >= 0.0 and a.max() <= 1.0
+
+    @pytest.mark.parametrize("bad", [float("nan"), float("inf"), -5.0])
+    def test_bad_years_are_refused_and_nothing_changes(self, carpet, bad, capfd):
+        from lightfade_addon import api
+        from lightfade_addon.blender.errors import AgingError
+
+        scene = bpy.context.scene
+        api.age_scene(scene, years=7)
+        before = aged(carpet["material"]).copy()
+        with pytest.raises(AgingError, match="finite number >= 0"):
+            api.set_years(scene, bad)
+        assert scene.lightfade.years == 7
+        scene.lightfade.years = bad                        # the property: refused, kept
+        assert scene.lightfade.years == 7
+        out = capfd.readouterr()
+        assert "Traceback" not in out.err + out.out and "kept 7" in out.out
+        np.testing.assert_array_equal(aged(carpet["material"]), before)
+
+    def test_lamp_hours_per_day_are_honoured(self, carpet):
+        """Reciprocity: 2 h a day for 20 years is 8 h a day for 5 years (to the grid's
+        accuracy: the two preparations have different dose axes)."""
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        api.age_scene(scene, years=5)
+        eight = aged(carpet["material"]).copy()
+        carpet["sun"].data.lightfade.hours_per_day = 2.0
+        api.age_scene(scene, years=5)
+        assert np.percentile(dE(aged(carpet["material"]), eight), 90) > 2
+        api.age_scene(scene, years=20)
+        assert np.percentile(dE(aged(carpet["material"]), eight), 99) < 1
+
+
+class TestReset:
+    def state(self, scene):
+        return dict(
+            links={m.name: sorted((l.from_node.name, l.from_socket.identifier, l.to_node.name,
+                                   l.to_socket.identifier) for l in m.node_tree.links)
+                   for m in bpy.data.materials},
+            materials=sorted(m.name for m in bpy.data.materials),
+            images=sorted(i.name for i in bpy.data.images),
+            groups=sorted(g.name for g in bpy.data.node_groups),
+            slots={o.name: [(s.link, getattr(s.material, "name", None)) for s in o.material_slots]
+                   for o in scene.objects},
+            uv={o.name: [u.name for u in o.data.uv_layers] for o in scene.objects if o.type == "MESH"},
+            render=(scene.render.engine, scene.render.use_lock_interface,
+                    scene.render.bake.margin, scene.render.bake.use_clear,
+                    scene.render.bake.target),
+            grids=grids(scene),
+        )
+
+    def test_reset_restores_links_datablocks_uv_maps_and_settings(self, carpet):
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        carpet["box"].data.materials.append(carpet["material"])    # shared by two objects
+        bpy.ops.lightfade.bake_exposure()
+        before = self.state(scene)
+        assert not scene.render.use_lock_interface
+        api.age_scene(scene, years=5)
+        assert scene.render.use_lock_interface
+        assert carpet["box"].material_slots[0].link == "OBJECT"
+        api.reset(scene)
+        assert self.state(scene) == before
+
+    def test_ages_and_bakes_do_not_grow_the_file(self, carpet, tmp_path):
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        api.age_scene(scene, years=5)
+        first = tmp_path / "first.blend"
+        bpy.ops.wm.save_as_mainfile(filepath=str(first), compress=False)
+        for k in range(5):
+            if k < 3:
+                bpy.ops.lightfade.bake_exposure()
+            api.age_scene(scene, years=5 + k)
+        again = tmp_path / "again.blend"
+        bpy.ops.wm.save_as_mainfile(filepath=str(again), compress=False)
+        assert os.path.getsize(again) <= 1.01 * os.path.getsize(first)
+        assert grids(scene) == 1
+
+
+FRESH = """
+import sys, json, numpy as np, bpy, addon_utils
+sys.path.insert(0, {root!r})
+bpy.ops.wm.open_mainfile(filepath={path!r})
+addon_utils.enable("lightfade_addon", default_set=True)
+from lightfade_addon import api
+from lightfade_addon.blender.copies import copies_of
+api.set_years(bpy.context.scene, {years!r})
+image = copies_of()[0].lightfade.aged_image
+a = np.empty(len(image.pixels), np.float32)
+image.pixels.foreach_get(a)
+np.save({out!r}, a)
+"""
+
+
+def test_fresh_process_renders_what_the_viewport_shows(carpet, tmp_path, lf):
+    """Save, then a new process opens the file and shows 12 years: same pixels as here,
+    also after a rebake that was never followed by Age."""
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    api.age_scene(scene, years=4)
+    carpet["box"].location.x -= 0.8
+    bpy.ops.lightfade.bake_exposure()                      # stale, not re-aged
+    path = tmp_path / "fresh.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    out = tmp_path / "fresh.npy"
+    code = FRESH.format(root=str(lf.ROOT), path=str(path), years=12.0, out=str(out))
+    env = dict(os.environ)
+    subprocess.run([sys.executable, "-c", code], check=True, env=env, capture_output=True,
+                   timeout=300)
+    api.set_years(scene, 12.0)
+    here = aged(carpet["material"]).ravel()
+    np.testing.assert_allclose(np.load(out), here, atol=1e-5)
+
+
+def test_slider_waits_for_big_textures_to_rest(carpet, monkeypatch):
+    from lightfade_addon import api
+    from lightfade_addon.blender import handlers
+
+    scene = bpy.context.scene
+    api.age_scene(scene, years=1)
+    before = aged(carpet["material"]).copy()
+    monkeypatch.setattr(handlers, "DEBOUNCE_TEXELS", 16)
+    monkeypatch.setattr(handlers, "_interactive", lambda: True)
+    scene.lightfade.years = 30
+    np.testing.assert_array_equal(aged(carpet["material"]), before)   # not yet
+    assert scene.name in handlers._pending
+    handlers._deferred(scene.name)                                    # the slider rested
+    assert np.abs(aged(carpet["material"]) - before).max() > 0.02
+    assert not handlers._pending
+
+
+def test_select_all_ages_only_ticked_materials(carpet):
+    mat = carpet["material"]
+    other = bpy.data.materials.new("Unticked")
+    carpet["box"].data.materials.append(other)
+    bpy.ops.lightfade.bake_exposure()
+    bpy.ops.object.select_all(action="SELECT")
+    assert bpy.ops.lightfade.age(years=2) == {"FINISHED"}
+    from lightfade_addon.blender.copies import copies_of
+
+    assert [c.lightfade.source for c in copies_of()] == [mat]
+
+
+class TestLights:
+    def test_lights_of_one_spectrum_add_up(self, carpet, lf):
+        """Two suns of half the strength age like one: exposure maps add, never overwrite."""
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        api.age_scene(scene, years=3)
+        one = aged(carpet["material"]).copy()
+        carpet["sun"].data.energy = 15.0
+        twin = lf.add_sun(strength=15.0, name="Twin")
+        twin.rotation_euler = carpet["sun"].rotation_euler
+        assert bpy.ops.lightfade.bake_exposure() == {"FINISHED"}
+        assert len(carpet["floor"].lightfade.exposure_maps) == 1        # one light group
+        api.age_scene(scene, years=3)
+        assert np.percentile(dE(aged(carpet["material"]), one), 99) < 0.5
+
+    def test_uv_filter_slows_fading(self, carpet):
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        carpet["sun"].data.lightfade.spectrum = "DAYLIGHT"          # with its UV
+        api.age_scene(scene, years=0)
+        original = aged(carpet["material"]).copy()
+        api.age_scene(scene, years=0.3)
+        bare = np.median(dE(aged(carpet["material"]), original))
+        carpet["sun"].data.lightfade.uv_filter = True
+        api.age_scene(scene, years=0.3)
+        filtered = np.median(dE(aged(carpet["material"]), original))
+        assert 1 < filtered < bare - 0.1            # UV drives part of the fading
