@@ -94,6 +94,9 @@ def scene(enabled=True, camera=True):
         cam.location = (0.0, 0.0, 3.0)
         s.collection.objects.link(cam)
         s.camera = cam
+    s.lightfade_bake.quality = "CUSTOM"
+    s.lightfade_bake.denoise = False
+    s.lightfade_bake.texels_per_metre = 32.0      # the 2 m floor: 64 px
     s.lightfade.bake_resolution = 64
     s.lightfade.bake_samples = 2
     s.lightfade.bake_margin = 1
@@ -125,7 +128,7 @@ maps = {m.name: list(m.image.size) for m in floor.lightfade.exposure_maps}
 copies = [m for m in bpy.data.materials if m.lightfade.source is not None]
 aged = copies[0].lightfade.aged_image if copies else None
 print("PROBE" + json.dumps({
-    "maps": maps, "years": s.lightfade.years, "bake_resolution": s.lightfade.bake_resolution,
+    "maps": maps, "years": s.lightfade.years, "density": s.lightfade_bake.texels_per_metre,
     "aged": aged.name if aged else None, "aged_packed": bool(aged and aged.packed_file),
     "grids": len(s.get("lightfade_grids", {})),
 }), flush=True)
@@ -230,9 +233,9 @@ def test_info_json_names_paths_emitters_and_stale(work, entry):
     assert [(e["object"], e["material"], e["status"]) for e in report["would_age"]] == [
         ("Floor", "Carpet", "not aged")]
     assert report["would_age"][0]["problems"] == [
-        "Object 'Floor' has no exposure maps from enabled emitters: run Bake Exposure first"]
-    assert [(e["name"], e["kind"], e["spectrum"]) for e in report["emitters"]] == [
-        ("Sun", "sun", "daylight-glass")]
+        "Object 'Floor' has no exposure maps: run Bake Exposure first"]
+    assert [(g["name"], g["emitters"], g["spectrum"]) for g in report["light_groups"]] == [
+        ("Sun", [["Sun", "sun"]], "daylight-glass")]
     assert report["doses"] == []
     assert report["stale"] == ["Object 'Floor' has no exposure maps (bake; age bakes them)"]
     assert leftovers(work) == []
@@ -252,7 +255,7 @@ def test_info_text_of_an_aged_file_shows_doses(work):
     proc = ENTRIES["blender -c"]("info", "good_aged.blend", "empty.blend", cwd=work)
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert "Floor / Carpet: direct (printed-paper, Blue Wool 1; aged)" in proc.stdout
-    assert "Floor <- Sun (sun): brightest texel" in proc.stdout
+    assert "Floor <- Sun: brightest texel" in proc.stdout
     assert "would age: nothing" in proc.stdout          # empty.blend
     assert "stale: nothing" in proc.stdout
 
@@ -262,11 +265,11 @@ def test_info_text_of_an_aged_file_shows_doses(work):
 
 def test_bake_writes_a_new_file_with_the_override(work):
     before = (work / "good.blend").read_bytes()
-    proc = ENTRIES["blender -c"]("bake", "good.blend", "--resolution", "96", cwd=work)
+    proc = ENTRIES["blender -c"]("bake", "good.blend", "--density", "20", cwd=work)
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert (work / "good.blend").read_bytes() == before
     state = probe(work / "good_baked.blend")
-    assert state["maps"] == {"Sun": [96, 96]} and state["bake_resolution"] == 96
+    assert state["maps"] == {"Sun": [40, 40]} and state["density"] == 20.0
     assert state["aged"] is None
     assert leftovers(work) == []
 
@@ -383,6 +386,8 @@ def test_batch_names_the_failures_and_finishes_the_rest(work, entry):
     (("age", "good.blend", "--years", "1", "--in-place", "--output", "x"), "exclude each other"),
     (("bake", "good.blend", "empty.blend", "--output", "x.blend"), "need a folder"),
     (("bake", "good.blend", "--resolution", "3"), "--resolution 3: must be between 64 and 8192"),
+    (("bake", "good.blend", "--quality", "best"), "--quality best: must be one of preview, "),
+    (("bake", "good.blend", "--samples", "4"), "--samples applies with --quality custom"),
     (("frobnicate", "good.blend"), "invalid choice"),
 ])
 def test_usage_errors_exit_2_with_one_line(work, args, message):
