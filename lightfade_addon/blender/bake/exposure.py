@@ -91,7 +91,7 @@ class _Step:
     objects: list
 
 
-def _scene_and_layer(context_or_scene):
+def scene_and_layer(context_or_scene):
     if isinstance(context_or_scene, bpy.types.Scene):
         scene = context_or_scene
         layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
@@ -106,7 +106,7 @@ class ExposureBake:
 
     def __init__(self, context_or_scene, objects=None, settings=None, report=None,
                  progress=None, only_changed=False):
-        self.scene, self.view_layer = _scene_and_layer(context_or_scene)
+        self.scene, self.view_layer = scene_and_layer(context_or_scene)
         self.settings = settings or BakeSettings.from_scene(self.scene)
         self.report = report or print
         self.progress = progress
@@ -374,31 +374,3 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
         "seconds": time.perf_counter() - start,
     }
 
-
-def calibrate(context_or_scene, obj=None):
-    """Time two tiny bakes of one target on this scene; store and return the rate.
-
-    Returns ``(texel-samples per second, seconds per call)``; :func:`.sizing.estimate`
-    uses it for this scene.
-    """
-    scene, layer = _scene_and_layer(context_or_scene)
-    objects = [obj] if obj is not None else None
-    job = ExposureBake(scene, objects, BakeSettings(resolution=32, samples=1, denoise=False),
-                       report=lambda msg: None, progress=lambda f, m: None).plan()
-    target = job.targets[:1]
-    group = job.groups[0]
-
-    def run(size, samples):
-        with BakeState(scene, layer) as state:
-            state.configure(samples, 0)
-            nodes = attach_targets(state, target)
-            image = state.new_image("calibration", size)
-            for node in nodes[target[0].name]:
-                node.image = image
-            isolate(state, scene, group)
-            state.select_only(target)
-            check_bake_result(state.bake(), target, group)
-
-    rate = sizing.calibrate(run)
-    sizing.CALIBRATION[scene.session_uid] = rate
-    return rate
