@@ -526,18 +526,17 @@ class TestProgressAndCancel:
 
 
 class TestSettings:
-    def test_preset_samples_unless_set(self, blender):
+    def test_preset_samples_custom_samples(self, blender):
         scene = bpy.context.scene
-        assert BakeSettings.from_scene(scene).samples == 8  # Final: 8 samples, denoised
-        scene.lightfade.bake_samples = 24  # a script or api.bake(samples=24)
-        assert BakeSettings.from_scene(scene).samples == 24
-        scene.lightfade_bake.quality = "PREVIEW"  # picking a preset forgets it
+        scene.lightfade.bake_samples = 24
         settings = BakeSettings.from_scene(scene)
-        assert (settings.samples, settings.denoise, settings.resolution) == (4, True, None)
+        assert (settings.samples, settings.denoise, settings.resolution) == (8, True, None)
+        scene.lightfade_bake.quality = "PREVIEW"
+        assert BakeSettings.from_scene(scene).samples == 4
         scene.lightfade_bake.quality = "CUSTOM"
         scene.lightfade_bake.denoise = False
         settings = BakeSettings.from_scene(scene)
-        assert (settings.samples, settings.denoise) == (64, False)
+        assert (settings.samples, settings.denoise) == (24, False)
 
     def test_calibration_gives_an_estimate(self, floor_scene):
         from lightfade_addon.blender.bake import calibrate, sizing

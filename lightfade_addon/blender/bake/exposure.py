@@ -68,15 +68,14 @@ class BakeSettings:
     def from_scene(cls, scene, unwrap=False):
         """The scene's settings: quality preset, density, max size (``bake_resolution``).
 
-        Samples come from the preset unless ``Scene.lightfade.bake_samples`` was set (the
-        Custom quality, a script, ``api.bake(samples=...)``); choosing a preset unsets it.
+        A preset brings its samples; ``Scene.lightfade.bake_samples`` counts with the
+        Custom quality only.
         """
         props, bake = scene.lightfade, scene.lightfade_bake
         preset = PRESETS.get(bake.quality)
-        custom = preset is None or props.is_property_set("bake_samples")
         return cls(
             resolution=None,
-            samples=props.bake_samples if custom else preset.samples,
+            samples=preset.samples if preset else props.bake_samples,
             margin=props.bake_margin,
             unwrap=unwrap,
             denoise=preset.denoise if preset else bake.denoise,
@@ -266,7 +265,7 @@ class ExposureBake:
         rgb = px[..., :3]
         if self.settings.denoise:
             guide = _denoise.island_colours(self.islands[obj.name])
-            rgb = _denoise.guard(_denoise.denoise(rgb, guide), rgb, self.settings.samples)
+            rgb = _denoise.guard(_denoise.denoise(rgb, guide), rgb)
         lux = np.maximum(luminance(rgb), 0.0) * LUX_PER_BAKE_UNIT
         px[..., :3] = lux[..., None]
         px[..., 3] = 1.0
