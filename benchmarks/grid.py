@@ -107,7 +107,7 @@ def main(argv=None):
              "the colour's own `log XYZ_initial`, computed exactly by the forward model, is "
              "subtracted: only the aged colour is interpolated, not the unexposed colour's "
              "steep Kubelka–Munk dependence on concentration. Along the dose axis the curve "
-             "is linear in sqrt(dose) between 33 quadratically spaced nodes (one gather per "
+             "is linear in dose^(1/3) between 65 cubically spaced nodes (one gather per "
              "texel on the slider). Textures with more distinct colours than 65,536 keys: "
              "up to 131,072 colours are unmixed exactly, more take a linear step from their "
              "bin's solution; keys are then bins in concentration space (`core/texels.py`).",
@@ -159,7 +159,7 @@ def main(argv=None):
     rows = ["## Speed", "", "| what | median |", "|---|---:|"]
     b1 = timed(lambda: build_grid(RECIPE, E1[None], DOSE), 3)
     b2 = timed(lambda: build_grid(RECIPE, np.stack([E1, E2]), DOSE), 3)
-    rows += [f"| grid build, 1 spectrum (1000 nodes × 33 doses) | {b1:.2f} s |",
+    rows += [f"| grid build, 1 spectrum (1000 nodes × 65 doses) | {b1:.2f} s |",
              f"| grid build, 2 spectra (3 mixes) | {b2:.2f} s |"]
     for n in (2048, 512):
         rgb = srgb_decode(synthetic_photo(n, n)).astype(np.float32)   # linear, as in Blender

@@ -6,8 +6,10 @@
 Each photograph (made here, no download) is aged by :class:`TextureAger` (the grid,
 what Blender and ``age-image`` use) and by :func:`age_image_exact` (one direct
 simulation per distinct colour, ``age-image --exact``) at doses spread over the
-whole years slider (0.3 … 100 years of 3000 lux, 8 h a day: up to 876 Mlx·h), and
-the written sRGB images are compared: max and 99th-percentile CIEDE2000 per case.
+whole years slider (0.3 … 100 years of 3000 lux, 8 h a day: up to 876 Mlx·h), with
+bands of exposure across each image (0.1 %, 1 %, 3 %, 10 %, 30 % and 100 % of the
+full light, as shadows give inside one texture), and the written sRGB images are
+compared: max and 99th-percentile CIEDE2000 per case.
 Photographs: saturated primaries (a hue sweep at full saturation, magentas and
 purples included), skin, foliage, greys, a landscape, and one with more than 65,536
 distinct colours (float values, noise), which takes the binned path.
@@ -93,10 +95,23 @@ def lab(img):
     return XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(np.asarray(img, float).reshape(-1, 3))))
 
 
+#: Exposure levels across each photograph (columns), as shadows and bounce light give
+#: inside one texture: texels at these shares of the brightest texel's dose.
+EXPOSURES = np.array([1e-3, 1e-2, 0.03, 0.1, 0.3, 1.0])
+
+
+def exposure_map(shape):
+    """Bands of :data:`EXPOSURES` across the image, (H, W)."""
+    h, w = shape[:2]
+    return np.repeat(EXPOSURES, -(-w // EXPOSURES.size))[:w][None].repeat(h, 0)
+
+
 def compare(photo, recipe, light):
-    """(max, p99) ΔE00 over all years, distinct colours, seconds of the grid path."""
-    ager = TextureAger(photo, recipe, [light], encoding="srgb", max_years=max(YEARS), cache=False)
-    exact = age_image_exact(photo, list(YEARS), recipe, light, encoding="srgb")
+    """(max, p99) ΔE00 over all years and exposure bands, and the distinct colours."""
+    expo = exposure_map(photo.shape)
+    ager = TextureAger(photo, recipe, [light], expo, encoding="srgb", max_years=max(YEARS),
+                       cache=False)
+    exact = age_image_exact(photo, list(YEARS), recipe, light, expo, encoding="srgb")
     errs = np.concatenate([delta_E_2000(lab(ager.age(y)), lab(e)) for y, e in zip(YEARS, exact)])
     colours = np.unique(photo.reshape(-1, 3), axis=0).shape[0]
     return errs.max(), np.percentile(errs, 99), colours

@@ -21,7 +21,7 @@ from .cache import load_or_build
 from .colorimetry import linear_srgb_to_XYZ, srgb_decode, srgb_encode, XYZ_to_linear_srgb
 from .gamut import encode_in_gamut, into_gamut, out_of_gamut
 from .grid import GridSettings
-from .lattice import simplex_interpolation
+from .lattice import DOSE_POWER, dose_index, simplex_interpolation
 from .lights import HOURS_PER_YEAR_DEFAULT, Light, dose_rates, spectra_keys
 from .recipes import Recipe, get_recipe
 from .restore import Prior, log_initial, restore
@@ -50,6 +50,10 @@ def _in_range(rgb, encoding):
         return rgb
     lin = rgb if encoding == "linear" else srgb_decode(np.clip(rgb, 0.0, None))
     return encode_in_gamut(np.array(lin, dtype=np.float32), encoding).astype(np.float32)
+
+
+def _root(years):
+    return float(years) ** (1.0 / DOSE_POWER)
 
 
 def _as_recipe(recipe):
@@ -174,8 +178,9 @@ class TextureAger:
                 self._offsets[:, s0:s1] = key[s0:s1] + nodes.T * (T - 1)
                 self._weights[:, s0:s1] = weights.T
         del rates, key
-        # s = sigma * sqrt(years) is the texel's fractional position on the dose axis
-        self._sigma = np.sqrt(self.rate / np.float32(self.grid.max_dose)) * np.float32(T - 1)
+        # s = sigma * years**(1/DOSE_POWER) is the texel's fractional position on the dose axis
+        self._sigma = (dose_index(self.rate / np.float32(self.grid.max_dose), T)
+                       .astype(np.float32))
         self._XYZ = np.empty((3, n), dtype=np.float32)
         for s0 in range(0, n, _BLOCK):
             s1 = min(s0 + _BLOCK, n)
@@ -198,6 +203,8 @@ class TextureAger:
         return years
 
     def _change(self, s0, s1, root_years):
+        # root_years = years ** (1 / DOSE_POWER): a texel's position on the dose axis is
+        # sigma * root_years, since the rate is constant per texel
         """``exp(change)`` for texels s0:s1 as (3, k) planes."""
         k = s1 - s0
         pos = self._sigma[s0:s1] * np.float32(root_years)
@@ -234,7 +241,7 @@ class TextureAger:
         if years > 0:
             for s0 in range(0, n, _BLOCK):
                 s1 = min(s0 + _BLOCK, n)
-                XYZ = self._change(s0, s1, np.sqrt(years)) * self._XYZ[:, s0:s1]
+                XYZ = self._change(s0, s1, _root(years)) * self._XYZ[:, s0:s1]
                 mask[s0:s1] = out_of_gamut((self._to_rgb @ XYZ).T)
         return mask.reshape(self.shape[:-1])
 
@@ -256,7 +263,7 @@ class TextureAger:
             (out[:, :3] if rgba else out.reshape(n, 3))[:] = self.original.reshape(n, 3)
             return out
         res = np.empty((n, 3), dtype=np.float32) if out is None else out
-        root = np.sqrt(years)
+        root = _root(years)
         for s0 in range(0, n, _BLOCK):
             s1 = min(s0 + _BLOCK, n)
             XYZ = self._change(s0, s1, root)

@@ -11,10 +11,7 @@ import numpy as np
 
 from .colorimetry import (
     XYZ_to_linear_srgb, linear_srgb_to_XYZ, reflectance_to_XYZ, srgb_decode, srgb_encode)
-from .fading import SimulationResult
 from .gamut import encode_in_gamut
-from .grid import GridSettings
-from .lattice import dose_axis
 from .lights import Light
 from .recipes import get_recipe
 from .spectra import WAVELENGTHS
@@ -29,9 +26,9 @@ def age_image_exact(rgb, years, recipe="printed-paper", light=Light(), exposure=
 
     Every distinct colour (exact values, no binning) is unmixed as in
     :class:`.aging.TextureAger` and simulated directly at the recipe's solver
-    settings, recording every requested dose and stepping at least at the grid's
-    dose nodes (so the reference is no coarser in time); the exposure map is quantised to
-    ``levels`` levels (one batch each). Only one light spectrum (one :class:`Light`).
+    settings (:meth:`.recipes.Recipe.simulate`: stepping at least at the grid's dose
+    nodes), recording every requested dose; one batch per distinct exposure value,
+    or per one of ``levels`` levels when there are more. Only one light spectrum (one :class:`Light`).
     Aged colours are mapped into [0, 1] by :func:`.gamut.encode_in_gamut`.
 
     Returns
@@ -55,8 +52,11 @@ def age_image_exact(rgb, years, recipe="printed-paper", light=Light(), exposure=
     if not np.all(np.isfinite(e)) or np.any(e < 0):
         raise ValueError("exposure must be finite and >= 0")
     emax = float(e.max()) if e.size else 0.0
-    level = np.zeros(n, dtype=np.int64) if emax == 0 else \
-        np.rint(e / emax * (levels - 1)).astype(np.int64)
+    values, level = np.unique(e, return_inverse=True)      # exact when there are few
+    level = level.reshape(-1)
+    if values.size > levels:
+        level = np.rint(e / emax * (levels - 1)).astype(np.int64)
+        values = np.arange(levels) / (levels - 1) * emax
     enc = np.clip(flat if encoding == "srgb" else srgb_encode(np.clip(flat, 0, 1)), 0, 1)
     colours, key = np.unique(enc, axis=0, return_inverse=True)
     key = key.reshape(-1)
@@ -69,19 +69,14 @@ def age_image_exact(rgb, years, recipe="printed-paper", light=Light(), exposure=
     for g_i, g in enumerate(groups):
         say(g_i / groups.size, f"simulating exposure level {g_i + 1}/{groups.size}")
         texels = np.nonzero(level == g)[0]
-        dose_rate = light.annual_dose * (g / (levels - 1) * emax if emax else 0.0)
+        dose_rate = light.annual_dose * values[g]
         doses = years * dose_rate
         if dose_rate == 0 or not np.any(doses > 0):
             continue
         used, inverse = np.unique(key[texels], return_inverse=True)
         positive = np.unique(doses[doses > 0])
-        # step at least as finely as the grid does (its dose nodes), so that the
-        # reference is no coarser in time than what it checks
-        steps = np.union1d(positive, dose_axis(GridSettings().doses, positive[-1])[1:])
         r = recipe.simulate(recipe.concentrations(c_unmixed[used]), E0, positive[-1],
-                            record=steps)
-        at = np.searchsorted(steps, positive)
-        r = SimulationResult(r.initial, r.reflectance, r.fractions, r.history[at], positive)
+                            record=positive)
         X0 = np.maximum(reflectance_to_XYZ(r.initial, WAVELENGTHS), 1e-6)
         for y_i, d in enumerate(doses):
             if d > 0:

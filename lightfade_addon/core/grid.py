@@ -7,7 +7,7 @@ Fading is simulated once at the nodes of a grid over
   most nonlinear in concentration),
 * the spectral composition of the light (a simplex lattice over the scene's ``S``
   light spectra, resolution ``q``; one node when there is one spectrum), and
-* the dose in lux·h (``T`` points spaced quadratically from 0 to ``max_dose``; one
+* the dose in lux·h (``T`` points spaced cubically from 0 to ``max_dose``; one
   simulation per concentration and mix gives the whole dose axis through
   ``record``, thanks to reciprocity).
 
@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import NdBSpline, make_interp_spline
 
-from .lattice import simplex_interpolation
+from .lattice import dose_index, simplex_interpolation
 
 __all__ = ["FadeGrid", "GridSettings"]
 
@@ -46,14 +46,14 @@ class GridSettings:
     power : float
         Spacing exponent of the concentration axes (1 = uniform; 2 = quadratic).
     doses : int
-        Nodes on the dose axis (``T``), quadratically spaced.
+        Nodes on the dose axis (``T``), spaced as ``(k / (T - 1))**3``.
     mix : int
         Resolution ``q`` of the light-mixture simplex lattice.
     """
 
     points: int = 10
     power: float = 1.6
-    doses: int = 33
+    doses: int = 65
     mix: int = 2
 
 
@@ -180,7 +180,7 @@ class FadeGrid:
     def dose_position(self, dose):
         """Fractional index on the dose axis (clipped to the axis), (N,) -> (i, frac)."""
         T = self.doses.size
-        s = np.sqrt(np.clip(np.asarray(dose, dtype=float) / self.max_dose, 0.0, 1.0)) * (T - 1)
+        s = dose_index(np.asarray(dose, dtype=float) / self.max_dose, T)
         i = np.minimum(s.astype(np.int64), T - 2)
         return i, s - i
 

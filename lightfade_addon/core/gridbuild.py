@@ -19,7 +19,7 @@ from .spectra import WAVELENGTHS
 __all__ = ["GRID_FORMAT", "build_grid", "grid_key"]
 
 #: Bumped whenever the grid's contents would change for the same inputs.
-GRID_FORMAT = 2
+GRID_FORMAT = 3
 #: Smallest XYZ value used in the log ratio (XYZ of a perfect white is about 1).
 XYZ_FLOOR = 1e-6
 

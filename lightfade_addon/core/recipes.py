@@ -25,7 +25,8 @@ from scipy.optimize import brentq
 
 from .colorimetry import delta_E_ab, reflectance_to_Lab
 from .colourants import load_colourant, load_substrate
-from .fading import KINETICS, simulate
+from .fading import KINETICS, SimulationResult, simulate
+from .lattice import dose_axis
 from .spectra import WAVELENGTHS, light_spectrum
 
 __all__ = [
@@ -37,6 +38,8 @@ __all__ = [
     "JND_DELTA_E",
 ]
 
+#: Dose nodes every recipe simulation steps at (as many as the grid's default dose axis).
+SOLVER_NODES = 65
 #: A just-noticeable colour change, ΔE*ab (ISO grey scale step 4).
 JND_DELTA_E = 1.6
 #: Dose for a just-noticeable fade of Blue Wool class 1, lux·h, UV-free light.
@@ -154,6 +157,10 @@ class Recipe:
                  wavelengths=WAVELENGTHS, sensitivity=None):
         """:func:`.fading.simulate` with this recipe's optics, yields and solver.
 
+        Steps are also taken at :data:`SOLVER_NODES` quadratically spaced doses
+        (:func:`.lattice.dose_axis`, the grid's dose nodes), so every direct run is as
+        fine in time as the grid.
+
         Parameters
         ----------
         concentrations : array_like, shape (..., C)
@@ -175,9 +182,19 @@ class Recipe:
         lam = np.asarray(wavelengths, dtype=float)
         A, S, ground = self.optics(lam)
         beta = self.sensitivity(lam) if sensitivity is None else sensitivity
-        return simulate(A, S, concentrations, beta, irradiance, ground, lam,
-                        thickness=self.thickness, duration=duration, record=record,
-                        yields=self.yield_matrix(), **self.solver())
+        wanted = None if record is None else np.asarray(record, dtype=float)
+        # every run also steps at the grid's dose nodes, so that a direct run is never
+        # coarser in time than the grid it is compared with (heavy fades need it)
+        steps = dose_axis(SOLVER_NODES, duration)[1:] if duration > 0 else np.zeros(0)
+        if wanted is not None:
+            steps = np.union1d(steps, wanted)
+        r = simulate(A, S, concentrations, beta, irradiance, ground, lam,
+                     thickness=self.thickness, duration=duration, record=steps,
+                     yields=self.yield_matrix(), **self.solver())
+        if wanted is None:
+            return SimulationResult(r.initial, r.reflectance, r.fractions)
+        at = np.searchsorted(steps, wanted)
+        return SimulationResult(r.initial, r.reflectance, r.fractions, r.history[at], wanted)
 
     def yield_matrix(self):
         """(C, C) yields matrix for :func:`.fading.simulate`, or None."""

@@ -14,7 +14,7 @@ from lightfade_addon.core.grid import GridSettings
 from lightfade_addon.core.gridbuild import build_grid
 from lightfade_addon.core.gridfile import grid_from_bytes, grid_to_bytes
 from lightfade_addon.core.lattice import (
-    concentration_axis, dose_axis, mix_lattice, simplex_interpolation)
+    concentration_axis, dose_axis, dose_index, mix_lattice, simplex_interpolation)
 from lightfade_addon.core.recipes import RECIPES
 from lightfade_addon.core.spectra import WAVELENGTHS as LAM, light_spectrum
 from lightfade_addon.core.unmix import get_unmixer
@@ -44,8 +44,9 @@ class TestAxes:
         assert a[0] == 0 and a[-1] == 1 and np.all(np.diff(np.diff(a)) > 0)
 
     def test_dose_axis(self):
-        d = dose_axis(5, 16.0)
-        np.testing.assert_allclose(d, [0, 1, 4, 9, 16])
+        d = dose_axis(5, 64.0)
+        np.testing.assert_allclose(d, [0, 1, 8, 27, 64])
+        np.testing.assert_allclose(dose_index(d / 64.0, 5), [0, 1, 2, 3, 4])
         with pytest.raises(ValueError):
             dose_axis(5, 0.0)
 
