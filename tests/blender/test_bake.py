@@ -373,6 +373,8 @@ class TestPhotometry:
 
     def test_world_counts_only_with_a_spectrum(self, floor_scene, lf):
         world = bpy.data.worlds.new("Sky")
+        if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+            world.use_nodes = True
         world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.5
         world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
         bpy.context.scene.world = world
