@@ -411,6 +411,8 @@ class TestPhotometry:
         bpy.ops.mesh.primitive_plane_add(size=2.0, location=(0.0, 1.0, 1.0), rotation=(math.radians(90), 0, 0))
         wall = bpy.context.active_object
         green = bpy.data.materials.new("Green")
+        if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+            green.use_nodes = True
         green.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.0, 0.8, 0.0, 1.0)
         wall.data.materials.append(green)
         floor_scene["sun"].rotation_euler = (math.radians(-40), 0.0, 0.0)  # lights the wall's face
