@@ -100,7 +100,21 @@ def main(argv=None):
              f"× {SUN.hours_per_day:g} h/day through window glass (`daylight-glass`), "
              f"i.e. {DOSE / 1e6:.0f} Mlx·h; errors at {', '.join(f'{f:g}' for f in FRACTIONS)} "
              "of that dose (between the grid's dose nodes). *Direct* is one simulation per "
-             "colour at the same solver settings (no grid): the grid's own error.", ""]
+             "colour at the same solver settings (no grid): the grid's own error.", "",
+             "How a colour's curve is read from the grid: `log XYZ_aged` at the nodes is "
+             "interpolated in concentration by a tensor-product cubic spline (not-a-knot, "
+             "`scipy.interpolate.make_interp_spline` per axis, evaluated by `NdBSpline`) and "
+             "the colour's own `log XYZ_initial`, computed exactly by the forward model, is "
+             "subtracted: only the aged colour is interpolated, not the unexposed colour's "
+             "steep Kubelka–Munk dependence on concentration. Along the dose axis the curve "
+             "is linear in sqrt(dose) between 33 quadratically spaced nodes (one gather per "
+             "texel on the slider). Textures with more distinct colours than 65,536 keys: "
+             "up to 131,072 colours are unmixed exactly, more take a linear step from their "
+             "bin's solution; keys are then bins in concentration space (`core/texels.py`).",
+             "",
+             "Photographs, every recipe and light, the whole years slider, against "
+             "`age-image --exact`: [grid_photos.md](grid_photos.md) "
+             "(`python -m benchmarks.photos`).", ""]
 
     doses = np.array(FRACTIONS) * DOSE
     held = np.random.default_rng(42).uniform(0, 1, (400, 3))

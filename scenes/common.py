@@ -107,6 +107,14 @@ def image_from_array(name, rgb):
     return img
 
 
+def new_material(name):
+    """A new material with a node tree (Principled BSDF and Material Output)."""
+    mat = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):       # Blender 4.x: node trees need use_nodes
+        mat.use_nodes = True
+    return mat
+
+
 def aging_material(name, image, recipe, blue_wool=None, roughness=0.6, specular=0.5, sheen=0.0):
     """A Principled material with an image-fed Base Color, tagged for LightFade.
 
@@ -119,9 +127,7 @@ def aging_material(name, image, recipe, blue_wool=None, roughness=0.6, specular=
     """
     if recipe not in RECIPES:
         raise ValueError(f"material {name!r}: unknown recipe {recipe!r}, expected one of {RECIPES}")
-    mat = bpy.data.materials.new(name)
-    if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
-        mat.use_nodes = True
+    mat = new_material(name)
     nt = mat.node_tree
     bsdf = nt.nodes["Principled BSDF"]
     tex = nt.nodes.new("ShaderNodeTexImage")
@@ -144,9 +150,7 @@ def aging_material(name, image, recipe, blue_wool=None, roughness=0.6, specular=
 
 def plain_material(name, colour, roughness=0.7, metallic=0.0, emission=None, strength=0.0):
     """An untagged Principled material of one linear colour (walls, fittings)."""
-    mat = bpy.data.materials.new(name)
-    if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
-        mat.use_nodes = True
+    mat = new_material(name)
     bsdf = mat.node_tree.nodes["Principled BSDF"]
     bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
     bsdf.inputs["Roughness"].default_value = roughness

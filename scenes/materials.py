@@ -45,9 +45,7 @@ def _stripes(name, n, colours=((0.75, 0.15, 0.3), (0.2, 0.45, 0.7), (0.85, 0.7, 
 
 
 def _material(name):
-    mat = bpy.data.materials.new(name)
-    if bpy.app.version < (5, 0, 0):       # Blender 4.x: node trees need use_nodes
-        mat.use_nodes = True
+    mat = C.new_material(name)
     mat["lightfade_recipe"] = RECIPE
     mat["lightfade_blue_wool"] = BLUE_WOOL
     return mat

@@ -306,6 +306,18 @@ class TestErrors:
 
 
 class TestHelpers:
+    def test_bounds_are_inclusive_and_finite(self):
+        import argparse
+
+        from lightfade_addon.commands import number
+
+        hours = number("hours", 0, 24)
+        assert (hours("0"), hours("24"), hours("7.5")) == (0.0, 24.0, 7.5)
+        for bad in ("-0.001", "24.001", "inf", "nan", "eight", ""):
+            with pytest.raises(argparse.ArgumentTypeError, match="hours"):
+                hours(bad)
+        assert number("lux")("1e6") == 1e6
+
     def test_parse_years_keeps_the_text(self):
         from lightfade_addon.commands.age_image import format_dose, parse_years
 

@@ -6,6 +6,8 @@ command runs in background mode after the add-ons are enabled.  The work is done
 :func:`..pipeline.main`, which ``python -m lightfade_addon scene`` calls too.
 """
 
+import atexit
+
 import bpy
 
 COMMAND = "lightfade"
@@ -21,8 +23,14 @@ def execute(argv):
 
 def register():
     _handles.append(bpy.utils.register_cli_command(COMMAND, execute))
+    if not bpy.app.binary_path:
+        # The bpy module (binary_path is "") of Blender 4.2 frees registered commands
+        # after Python has finalized and crashes at exit (seen with 4.2.23, not 5.2):
+        # unregister before that.  Not in Blender itself, which frees them earlier.
+        atexit.register(unregister)
 
 
 def unregister():
+    atexit.unregister(unregister)
     while _handles:
         bpy.utils.unregister_cli_command(_handles.pop())

@@ -114,9 +114,8 @@ def remove_copy(copy):
     trees = [n.node_tree for n in _all_group_nodes(copy.node_tree)
              if n.node_tree is not None and n.node_tree.get(TREE_TAG)]
     bpy.data.materials.remove(copy)
-    for tree in trees:
-        if tree.users == 0:
-            bpy.data.node_groups.remove(tree)
+    for tree in trees:      # private to the copy by construction (Blender 4.2 miscounts users)
+        bpy.data.node_groups.remove(tree)
 
 
 def _all_group_nodes(tree, depth=0):

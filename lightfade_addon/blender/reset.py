@@ -26,8 +26,8 @@ def remove_aged(copy):
     props.aged_image = None
     props.albedo = None
     remove_copy(copy)
-    for image in images:
-        if image is not None and image.users == 0:
+    for image in images:    # private to the copy (Blender 4.2 may still count a user)
+        if image is not None:
             bpy.data.images.remove(image)
 
 

@@ -15,6 +15,6 @@ def add_arguments(parser):
 
 
 def run(args):
-    from ..pipeline import run as run_pipeline
+    from ..pipeline import run_program
 
-    return run_pipeline(args)
+    return run_program(args)

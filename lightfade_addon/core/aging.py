@@ -222,6 +222,22 @@ class TextureAger:
         np.exp(result, out=result)
         return result
 
+    def out_of_range(self, years):
+        """Mask (texture shape) of texels the gamut rule maps back at ``years``.
+
+        The modelled aged colour in linear sRGB has a channel outside [0, 1] there
+        (:func:`.gamut.out_of_gamut`); :meth:`age` maps them in. For reports.
+        """
+        years = self._check_years(years)
+        n = self.original.size // 3
+        mask = np.zeros(n, dtype=bool)
+        if years > 0:
+            for s0 in range(0, n, _BLOCK):
+                s1 = min(s0 + _BLOCK, n)
+                XYZ = self._change(s0, s1, np.sqrt(years)) * self._XYZ[:, s0:s1]
+                mask[s0:s1] = out_of_gamut((self._to_rgb @ XYZ).T)
+        return mask.reshape(self.shape[:-1])
+
     def age(self, years, out=None):
         """The texture after ``years`` (float32, same shape and encoding as the input).
 

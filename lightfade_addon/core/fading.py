@@ -265,7 +265,7 @@ def _run_chunk(stack, f, t, record_idx, scheme, yields):
 
 
 def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
-             substrate, wavelengths, thickness=1.0, duration=1.0, layers=5, steps=4,
+             substrate, wavelengths, thickness=1.0, duration=1.0, layers=3, steps=4,
              scheme="heun", kinetics="first-order", yields=None, record=None,
              workers=None):
     """Fade layered colourant mixtures under constant irradiance.
@@ -294,9 +294,9 @@ def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
         matters (reciprocity).
     layers, steps : int
         Number of equal layers and of uniform time steps (>= 1). The defaults
-        (5 layers, 4 steps of ``"heun"``) are the cheapest setting within max
-        CIEDE2000 0.3 of the paper's 1024 × 625 reference in the accuracy study
-        (``docs/accuracy.md``).
+        (3 layers, 4 steps of ``"heun"``) are the cheapest setting within max
+        CIEDE2000 0.3 of a 1024 × 625 reference with first-order kinetics in the
+        accuracy study (``docs/accuracy.md``).
     scheme : {"paper", "heun"}
         ``"paper"``: rates held over each step (first order in the step);
         ``"heun"``: the predictor–corrector (second order, two flux solves per step).

@@ -32,7 +32,8 @@ LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
 def out_of_gamut(rgb):
     """Mask (...,) of colours (..., 3) with a channel outside [0, 1] or not finite."""
     rgb = np.asarray(rgb)
-    return ~np.all((rgb >= 0) & (rgb <= 1), axis=-1)
+    with np.errstate(invalid="ignore"):
+        return ~((rgb.min(axis=-1) >= 0) & (rgb.max(axis=-1) <= 1))     # NaN counts as out
 
 
 def into_gamut(rgb, out=None):

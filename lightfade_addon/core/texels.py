@@ -8,8 +8,9 @@ colours are solved exactly:
   and is its own key;
 * else up to ``max_keys`` distinct 8-bit colours: the same, on the colours rounded
   to 8 bits;
-* more (photographs, noise, 16-bit and float textures): the colours are gathered in
-  bins of fewer bits; each bin's centre is unmixed exactly, and every distinct
+* more (photographs, noise, 16-bit and float textures): every distinct 8-bit colour
+  is unmixed exactly up to :data:`UNMIX_BUDGET` colours; beyond, the colours are
+  gathered in bins of fewer bits, each bin's centre is unmixed exactly, and every
   colour gets its own concentrations by a linear step from its bin's solution,
   ``c = c_bin + dc/dLab · (Lab - Lab_bin)`` (:meth:`.unmix.Unmixer.slope`). The
   keys are then bins in *concentration* space (as fine as ``max_keys`` allows),
@@ -25,10 +26,13 @@ import numpy as np
 
 from .colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_decode
 
-__all__ = ["MAX_KEYS", "UNMIX_REFINE", "texel_concentrations"]
+__all__ = ["MAX_KEYS", "UNMIX_BUDGET", "UNMIX_REFINE", "texel_concentrations"]
 
 #: Most colours unmixed exactly per texture (and most rows per dose interval).
 MAX_KEYS = 1 << 16
+#: Most colours unmixed exactly per texture; more take a linear step from a bin's
+#: solution (:func:`_linearised`).
+UNMIX_BUDGET = 1 << 17
 #: Gauss–Newton iterations of each exact unmixing (from the unmixer's table).
 UNMIX_REFINE = 2
 #: Finest quantisation of a concentration axis for keys (levels over [0, 1]).
@@ -55,7 +59,22 @@ def _Lab(encoded):
     return XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(encoded)))
 
 
-def texel_concentrations(rgb_encoded, unmixer, max_keys=MAX_KEYS, refine=UNMIX_REFINE):
+def _linearised(colours, unmixer, refine):
+    """Concentrations of many colours from at most :data:`UNMIX_BUDGET` exact solves:
+    bins of fewer bits, each colour a linear step from its bin centre's solution."""
+    for drop in range(1, 8):
+        bins, member = np.unique(_codes(colours, drop), return_inverse=True)
+        if bins.size <= UNMIX_BUDGET:
+            break
+    member = member.reshape(-1)
+    centres = _decode(bins, drop)
+    c_bin = unmixer.unmix(centres, encoded=True, refine=refine)
+    slope = unmixer.slope(c_bin)                                     # (B, Cu, 3)
+    step = _Lab(colours) - _Lab(centres)[member]
+    return np.clip(c_bin[member] + np.einsum("nki,ni->nk", slope[member], step), 0.0, 1.0)
+
+
+def texel_concentrations(rgb_encoded, unmixer, max_keys=None, refine=UNMIX_REFINE):
     """Concentrations per key and each texel's key.
 
     Parameters
@@ -63,8 +82,8 @@ def texel_concentrations(rgb_encoded, unmixer, max_keys=MAX_KEYS, refine=UNMIX_R
     rgb_encoded : ndarray, shape (n, 3)
         Encoded sRGB in [0, 1].
     unmixer : Unmixer
-    max_keys : int
-        Most distinct keys (and most exact solves).
+    max_keys : int, optional
+        Most distinct keys; default :data:`MAX_KEYS`.
     refine : int
         Gauss–Newton iterations of the exact solves.
 
@@ -74,6 +93,7 @@ def texel_concentrations(rgb_encoded, unmixer, max_keys=MAX_KEYS, refine=UNMIX_R
     c : ndarray, shape (K, Cu)
         Concentrations of the unmixed colourants per key, K <= ``max_keys``.
     """
+    max_keys = MAX_KEYS if max_keys is None else int(max_keys)
     if unmixer.Cu == 0:
         return np.zeros(rgb_encoded.shape[0], dtype=np.int32), np.zeros((1, 0))
     codes, inverse = np.unique(_codes(rgb_encoded), return_inverse=True)
@@ -85,25 +105,19 @@ def texel_concentrations(rgb_encoded, unmixer, max_keys=MAX_KEYS, refine=UNMIX_R
                                                                      refine=refine)
         return inverse, unmixer.unmix(_decode(codes), encoded=True, refine=refine)
     colours = _decode(codes)
-    for drop in range(1, 8):
-        bins, member = np.unique(_codes(colours, drop), return_inverse=True)
-        if bins.size <= max_keys:
-            break
-    member = member.reshape(-1)
-    centres = _decode(bins, drop)
-    c_bin = unmixer.unmix(centres, encoded=True, refine=refine)
-    slope = unmixer.slope(c_bin)                                     # (B, Cu, 3)
-    step = _Lab(colours) - _Lab(centres)[member]
-    c = np.clip(c_bin[member] + np.einsum("nki,ni->nk", slope[member], step), 0.0, 1.0)
+    if codes.size <= UNMIX_BUDGET:
+        c = unmixer.unmix(colours, encoded=True, refine=refine)
+    else:
+        c = _linearised(colours, unmixer, refine)
     # keys: concentration bins, the finest that give at most max_keys
     levels = _C_LEVELS
     while True:
-        q = np.rint(c * (levels - 1)).astype(np.int64)
+        q = np.rint(np.sqrt(c) * (levels - 1)).astype(np.int64)   # finer near 0, like the grid
         flat = np.ravel_multi_index(q.T, (levels,) * c.shape[1])
         keys, which = np.unique(flat, return_inverse=True)
         if keys.size <= max_keys or levels <= 2:
             break
-        levels //= 2
+        levels = int(levels / 1.25)          # merge gently: fewer keys, small bins
     which = which.reshape(-1)
     counts = np.bincount(which, minlength=keys.size)[:, None]
     c_key = np.stack([np.bincount(which, c[:, k], keys.size) for k in range(c.shape[1])], 1)

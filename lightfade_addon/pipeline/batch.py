@@ -17,7 +17,7 @@ import traceback
 import bpy
 
 from .steps import ACTIONS, check_overrides, dump_json
-from .files import Refused
+from .files import Refused, write_text
 
 #: The add-on package these modules belong to (``lightfade_addon`` or ``bl_ext.<repo>.lightfade``).
 ADDON_PACKAGE = __package__.rpartition(".")[0]
@@ -107,21 +107,35 @@ def _run_checked(args):
     return (0 if all(r["status"] == "done" for r in rows) else 1), rows
 
 
+def _json_document(args, rows):
+    reports = iter(args.json_reports)
+    return dump_json([next(reports) if r["status"] == "done"
+                      else {"file": os.path.abspath(r["file"]), "error": r["result"]}
+                      for r in rows]) + "\n"
+
+
 def run(args):
     """Run ``args.action`` on every file of ``args.files``; returns the exit status.
 
     With ``info --json`` stdout carries the JSON document only: everything else
-    (Blender's messages too) goes to stderr.
+    (Blender's messages too) goes to stderr.  With ``info --json FILE`` the document is
+    written to FILE (safely) and the run prints as usual.
     """
     if not (args.action == "info" and args.json):
         return _run_checked(args)[0]
     args.json_reports = []
+    if args.json != "-":
+        status, rows = _run_checked(args)
+        if status != 2:
+            try:
+                write_text(os.path.abspath(args.json), _json_document(args, rows))
+            except Refused as err:
+                print(f"lightfade: {err}", file=sys.stderr)
+                return 1
+        return status
     with stdout_to_stderr():
         status, rows = _run_checked(args)
     if status != 2:
-        reports = iter(args.json_reports)
-        docs = [next(reports) if r["status"] == "done"
-                else {"file": os.path.abspath(r["file"]), "error": r["result"]} for r in rows]
-        sys.stdout.write(dump_json(docs) + "\n")
+        sys.stdout.write(_json_document(args, rows))
         sys.stdout.flush()
     return status

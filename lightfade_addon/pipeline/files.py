@@ -31,8 +31,21 @@ def open_blend(path):
     try:
         bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path), load_ui=False)
     except RuntimeError as err:
-        raise Refused(f"Blender cannot read it as a .blend file ({_first_line(err)})") from None
+        if _looks_like_blend(path):
+            raise Refused(f"Blender {bpy.app.version_string} cannot read this .blend file "
+                          f"({_first_line(err)}): saved by a newer Blender?") from None
+        raise Refused(f"not a .blend file ({_first_line(err)})") from None
     return bpy.context.scene
+
+
+#: How a .blend file starts: plain, gzip- or zstd-compressed.
+_BLEND_MAGIC = (b"BLENDER", b"\x1f\x8b", b"\x28\xb5\x2f\xfd")
+
+
+def _looks_like_blend(path):
+    with open(path, "rb") as f:
+        head = f.read(8)
+    return head.startswith(_BLEND_MAGIC)
 
 
 def output_blend(src, output, in_place, suffix, several):
@@ -115,6 +128,21 @@ def save_render(scene, path):
         bpy.data.images["Render Result"].save_render(filepath=tmp, scene=scene)
         os.replace(tmp, path)
     except (RuntimeError, OSError, KeyError) as err:
+        raise Refused(f"could not write {path} ({_first_line(err)})") from None
+    finally:
+        _remove(tmp)
+    return path
+
+
+def write_text(path, text):
+    """Write ``text`` as ``path`` (UTF-8) through a temporary file and a rename."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    tmp = _temporary(path)
+    try:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(tmp, path)
+    except OSError as err:
         raise Refused(f"could not write {path} ({_first_line(err)})") from None
     finally:
         _remove(tmp)

@@ -13,8 +13,8 @@ import bpy
 from .. import api
 from ..blender import stats
 from ..blender.apply import aged_copies
-from ..blender.bake import find_emitters
-from ..blender.properties import resolve_spectrum
+from ..blender.bake import StaleExposureError, find_emitters, find_groups, maps_lit_by
+from ..blender.bake.maps import map_key
 from ..blender.targets import targets
 
 # ------------------------------------------------------------------------------ queries
@@ -29,11 +29,29 @@ def _emitters_of(scene, obj):
     return [e for e in find_emitters(scene) if e.obj is not obj]
 
 
+def _has_pixels(item):
+    return item.image is not None and tuple(item.image.size) != (0, 0)
+
+
 def missing_maps(scene, obj):
-    """Names of the scene's emitters that ``obj`` has no usable exposure map for."""
-    have = {m.name for m in obj.lightfade.exposure_maps
-            if m.image is not None and tuple(m.image.size) != (0, 0)}
-    return [e.name for e in _emitters_of(scene, obj) if e.name not in have]
+    """Names of the scene's emitters that no usable exposure map of ``obj`` holds."""
+    return [e.name for e in _emitters_of(scene, obj)
+            if not any(_has_pixels(m) for m in maps_lit_by(obj, e.name))]
+
+
+def needs_bake(scene, obj):
+    """True when ``obj`` misses a map for an emitter or a baked group has split."""
+    return bool(missing_maps(scene, obj)) or any(
+        isinstance(_key(scene, obj, m), str) for m in obj.lightfade.exposure_maps)
+
+
+def _key(scene, obj, item):
+    """A map's ``(spectrum, uv filter, h/day, d/yr)``, None (emitters gone or excluded)
+    or the message of a group that split."""
+    try:
+        return map_key(scene, obj, item)
+    except StaleExposureError as err:
+        return str(err)
 
 
 def _recipe(material):
@@ -62,33 +80,33 @@ def would_age(scene):
     return entries
 
 
-def emitters(scene):
-    """The emitters that take part in aging, with spectrum and schedule."""
+def light_groups(scene):
+    """The emitters that take part in aging, grouped as the bake groups them (one map
+    per group: same spectrum, UV filter and schedule)."""
     entries = []
-    for e in find_emitters(scene):
-        schedule = stats.emitter_schedule(scene, e.name, e.kind)
+    for g in find_groups(scene):
+        spectrum, uv_filter, hours, days = g.key
         entries.append({
-            "name": e.name, "kind": e.kind.lower(),
-            "spectrum": resolve_spectrum(schedule, e.kind),
-            "uv_filter": schedule.uv_filter,
-            "hours_per_day": schedule.hours_per_day, "days_per_year": schedule.days_per_year,
+            "name": g.name, "emitters": [[e.name, e.kind.lower()] for e in g.emitters],
+            "spectrum": spectrum, "uv_filter": uv_filter,
+            "hours_per_day": hours, "days_per_year": days,
         })
     return entries
 
 
 def doses(scene):
-    """Per baked map: brightest texel (lux) and its annual dose (Mlx·h per year)."""
+    """Per baked map: brightest texel (lux) and its annual dose (Mlx·h per year, None
+    when the map's emitters are gone, excluded or no longer share a schedule)."""
     entries = []
     for obj in target_objects(scene):
         for m in obj.lightfade.exposure_maps:
-            schedule = stats.emitter_schedule(scene, m.emitter, m.emitter_kind)
+            key = _key(scene, obj, m)
             lux = stats.image_max(m.image)
             entries.append({
-                "object": obj.name, "emitter": m.name, "kind": m.emitter_kind.lower(),
+                "object": obj.name, "group": m.name,
                 "size": list(m.image.size) if m.image is not None else None,
                 "max_lux": lux,
-                "max_annual_Mlxh": (stats.annual_dose(lux, schedule) / 1e6
-                                    if schedule is not None else None),
+                "max_annual_Mlxh": lux * key[2] * key[3] / 1e6 if isinstance(key, tuple) else None,
             })
     return entries
 
@@ -105,14 +123,16 @@ def stale(scene):
         elif missing:
             lines.append(f"Object '{obj.name}' has no exposure map for "
                          f"{', '.join(repr(n) for n in missing)} (added after the bake?)")
-        current = {e.name for e in _emitters_of(scene, obj)}
         for m in maps:
-            if m.image is None or tuple(m.image.size) == (0, 0):
+            key = _key(scene, obj, m)
+            if not _has_pixels(m):
                 lines.append(f"Object '{obj.name}': the map for '{m.name}' has no image data "
-                             "(re-bake)")
-            elif m.name not in current:
-                lines.append(f"Object '{obj.name}': the map for '{m.name}' belongs to an "
-                             "emitter that is gone or excluded from aging (ignored)")
+                             "(bake again)")
+            elif key is None:
+                lines.append(f"Object '{obj.name}': the map for '{m.name}' belongs to "
+                             "emitters that are gone or excluded from aging (ignored)")
+            elif isinstance(key, str):
+                lines.append(key)
     for copy in aged_copies(scene):
         props = copy.lightfade
         if not props.source.lightfade.enabled:
@@ -127,7 +147,7 @@ def stale(scene):
 #: Report sections in order: (key, function of the scene).
 SECTIONS = (
     ("would_age", would_age),
-    ("emitters", emitters),
+    ("light_groups", light_groups),
     ("doses", doses),
     ("stale", stale),
 )
@@ -154,16 +174,17 @@ def as_text(report):
         out.append(f"    {e['object']} / {e['material']}: {e['path']} ({e['recipe']}, "
                    f"{e['sensitivity']}; {e['status']}) - {e['reason']}")
         out.extend(f"      problem: {p}" for p in e["problems"])
-    out.append("  emitters:" if report["emitters"] else "  emitters: none")
-    for e in report["emitters"]:
-        uv = ", UV filter" if e["uv_filter"] else ""
-        out.append(f"    {e['name']} ({e['kind']}): {e['spectrum']}{uv}, "
-                   f"{e['hours_per_day']:g} h/day, {e['days_per_year']:g} days/year")
+    out.append("  light groups:" if report["light_groups"] else "  light groups: none")
+    for g in report["light_groups"]:
+        uv = ", UV filter" if g["uv_filter"] else ""
+        members = ", ".join(f"{name} ({kind})" for name, kind in g["emitters"])
+        out.append(f"    {g['name']}: {members}; {g['spectrum']}{uv}, "
+                   f"{g['hours_per_day']:g} h/day, {g['days_per_year']:g} days/year")
     out.append("  doses:" if report["doses"] else "  doses: no exposure maps")
     for e in report["doses"]:
-        dose = ("emitter gone" if e["max_annual_Mlxh"] is None
+        dose = ("not used" if e["max_annual_Mlxh"] is None
                 else f"{e['max_annual_Mlxh']:.3g} Mlx·h/year")
-        out.append(f"    {e['object']} <- {e['emitter']} ({e['kind']}): brightest texel "
+        out.append(f"    {e['object']} <- {e['group']}: brightest texel "
                    f"{e['max_lux']:.4g} lux, {dose}")
     out.append("  stale:" if report["stale"] else "  stale: nothing")
     out.extend(f"    {line}" for line in report["stale"])

@@ -12,14 +12,19 @@ import argparse
 import math
 
 #: Bake overrides: (flag, property path on the scene, type, metavar, help).  Each flag
-#: sets that setting of the opened file before a bake (and is kept in the saved file).
-#: A new bake setting is one row, e.g. ``("--quality", "lightfade_bake.quality", str,
-#: "NAME", ...)`` or ``("--density", "lightfade_bake.texels_per_metre", float, ...)``.
+#: sets that setting of the opened file before a bake (and is kept in the saved file);
+#: a new bake setting is one row.  Values are checked against the setting's range or
+#: items once the add-on is registered.
 BAKE_FLAGS = (
+    ("--quality", "lightfade_bake.quality", str, "NAME",
+     "exposure bake quality: preview, final (presets with their own samples and "
+     "denoising) or custom (--samples); default: the file's setting"),
+    ("--density", "lightfade_bake.texels_per_metre", float, "TEXELS_PER_M",
+     "exposure map density, texels per metre of surface (default: the file's setting)"),
     ("--resolution", "lightfade.bake_resolution", int, "PX",
-     "exposure map width and height in pixels (default: the file's setting)"),
+     "largest exposure map width and height, pixels (default: the file's setting)"),
     ("--samples", "lightfade.bake_samples", int, "N",
-     "Cycles samples per texel for the exposure bake (default: the file's setting)"),
+     "Cycles samples per texel, with --quality custom (default: the file's setting)"),
     ("--margin", "lightfade.bake_margin", int, "PX",
      "bake margin past UV island borders, pixels (default: the file's setting)"),
 )
@@ -106,7 +111,9 @@ def add_subcommands(parser):
                                     "what is stale",
                        description="Describe a file's LightFade state without changing it.")
     _add_files(p)
-    p.add_argument("--json", action="store_true", help="print one JSON document")
+    p.add_argument("--json", nargs="?", const="-", metavar="FILE",
+                   help="print one JSON document instead of text (stdout then carries "
+                        "only the JSON), or write it to FILE")
     return sub
 
 
@@ -123,6 +130,9 @@ def check(args):
     output = getattr(args, "output", None)
     if getattr(args, "in_place", False) and output:
         return "--in-place and --output exclude each other"
+    if (getattr(args, "samples", None) is not None
+            and str(getattr(args, "quality", None)).lower() != "custom"):
+        return "--samples applies with --quality custom (the presets set their own samples)"
     if (args.action in ("bake", "age") and output and len(args.files) > 1
             and output.lower().endswith(".blend")):
         return f"--output {output}: several input files need a folder, not a .blend path"

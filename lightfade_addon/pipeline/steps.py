@@ -17,7 +17,7 @@ import bpy
 from .. import api
 from ..blender.bake import LightFadeBakeError
 from .files import Refused, open_blend, output_blend, save_blend, save_render
-from .info import as_text, gather, missing_maps, target_objects
+from .info import as_text, gather, needs_bake, target_objects
 from .parser import BAKE_FLAGS
 
 #: Name added to the input's stem when no --output is given.
@@ -85,10 +85,11 @@ def _targets_or_refuse(scene):
 
 
 def _bake_if_needed(scene, args, say):
-    """Bake the target objects that miss an exposure map (all with ``--rebake``)."""
+    """Bake the target objects that miss a map or whose light groups split (all with
+    ``--rebake``)."""
     objects = _targets_or_refuse(scene)
     if not args.rebake:
-        objects = [o for o in objects if missing_maps(scene, o)]
+        objects = [o for o in objects if needs_bake(scene, o)]
     return _bake(scene, objects, args, say) if objects else 0
 
 

@@ -181,9 +181,9 @@ class TestSaveReload:
         mat = bpy.data.materials["Carpet"]
         assert aged_image(mat) is not None and aged_image(mat).packed_file
         np.testing.assert_allclose(rgba(aged_image(mat)), aged_before, atol=1e-6)
-        from lightfade_addon.core import grid
+        from lightfade_addon.core import gridbuild
 
-        monkeypatch.setattr(grid, "build_grid", lambda *a, **k: pytest.fail("simulated"))
+        monkeypatch.setattr(gridbuild, "build_grid", lambda *a, **k: pytest.fail("simulated"))
         bpy.context.scene.lightfade.years = 12            # ager rebuilt from the file's grid
         assert np.abs(rgba(aged_image(mat)) - aged_before).max() > 0.01
 

@@ -126,6 +126,21 @@ class TestLoad:
         assert c.K[0] == pytest.approx(1.0) and c.K[-1] == pytest.approx(0.0)
         assert c.S[0] == pytest.approx(0.1) and c.S[-1] == pytest.approx(0.2)
 
+    @pytest.mark.parametrize("name", ["cyan", "magenta", "yellow", "lignin"])
+    def test_resampling_keeps_the_band_area(self, name):
+        """Band-averaging onto a coarser or the same grid keeps each absorption band's
+        area (what the fading integral sees) and its peak position."""
+        from scipy.integrate import trapezoid
+
+        native = load_colourant(name, None)
+        coarse = load_colourant(name, np.linspace(300.0, 780.0, 25))
+        again = load_colourant(name, native.wavelengths)
+        area = trapezoid(native.K, native.wavelengths)
+        assert trapezoid(coarse.K, coarse.wavelengths) == pytest.approx(area, rel=0.03)
+        assert trapezoid(again.K, again.wavelengths) == pytest.approx(area, rel=0.01)
+        peak = native.wavelengths[np.argmax(native.K)]
+        assert abs(coarse.wavelengths[np.argmax(coarse.K)] - peak) <= 20
+
     def test_arrays_are_read_only(self):
         with pytest.raises(ValueError):
             load_colourant("cyan").K[0] = 0.0

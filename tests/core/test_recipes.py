@@ -44,6 +44,25 @@ class TestCalibration:
         r = RECIPES["printed-paper"].with_blue_wool(1)
         assert r.blue_wool == (3.0, 1.0, 2.0)
 
+    def test_with_blue_wool_clips_classes_to_1_8(self):
+        r = RECIPES["printed-paper"].with_blue_wool(8)     # (4, 2, 3) shifted by 6
+        assert r.blue_wool == (8.0, 8.0, 8.0)
+
+    def test_first_order_is_the_default_and_recalibrated(self):
+        r = RECIPES["printed-paper"]
+        assert r.kinetics == "first-order" and r.solver()["kinetics"] == "first-order"
+        paper = replace(r, kinetics="paper")
+        b1, b2 = r.sensitivity(), paper.sensitivity()
+        assert not np.allclose(b1, b2)                  # each law calibrated on its own
+        for recipe, beta in ((r, b1), (paper, b2)):
+            for j, k in enumerate(recipe.blue_wool):
+                fade = _calibration_fade(recipe, j, beta[j], blue_wool_dose(k), WAVELENGTHS)
+                assert fade == pytest.approx(JND_DELTA_E, rel=1e-6)
+
+    def test_unknown_kinetics_is_refused(self):
+        with pytest.raises(ValueError, match="kinetics"):
+            replace(RECIPES["printed-paper"], kinetics="zeroth")
+
     def test_lignin_yellowing_is_driven_by_uv(self):
         with_uv = RECIPES["bare-wood"].sensitivity()[0]
         without_uv = replace(RECIPES["bare-wood"], calibration_uv_filter=True).sensitivity()[0]

@@ -18,6 +18,7 @@ UV space.  The guide is noise-free, hence no prefilter (half the time).
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import tempfile
 
@@ -39,25 +40,41 @@ def island_colours(label):
 
 
 def max_filter(a, radius):
-    """Maximum over a ``(2 radius + 1)²`` window of an (H, W, ...) array (edges clamped)."""
+    """Maximum over a ``(2 radius + 1)²`` window of an (H, W, ...) array (edges clamped).
+
+    ``radius`` passes of a 3-texel maximum along each axis (memory: three copies).
+    """
     out = a
     for axis in (0, 1):
-        padded = np.concatenate([np.repeat(out.take([0], axis), radius, axis), out,
-                                 np.repeat(out.take([-1], axis), radius, axis)], axis=axis)
         n = out.shape[axis]
-        out = np.max([padded.take(range(k, k + n), axis) for k in range(2 * radius + 1)], axis=0)
+        for _ in range(int(radius)):
+            padded = np.concatenate([out.take([0], axis), out, out.take([-1], axis)], axis=axis)
+            out = np.maximum(np.maximum(padded.take(range(0, n), axis),
+                                        padded.take(range(1, n + 1), axis)),
+                             padded.take(range(2, n + 2), axis))
     return out
 
 
-def guard(denoised, raw, radius=2):
+#: Paths a guard window must hold before "no light in any of them" means dark.
+GUARD_PATHS = 1000
+
+
+def guard_radius(samples):
+    """Window radius (texels) holding about :data:`GUARD_PATHS` paths at ``samples``."""
+    return max(1, math.ceil(math.sqrt(GUARD_PATHS / max(samples, 1)) / 2))
+
+
+def guard(denoised, raw, samples):
     """``denoised`` capped at the local maximum of ``raw`` (and at 0 from below).
 
-    A window of 25 texels at a few samples each holds ~100-200 paths: if none of them
-    carried light, the texel's irradiance is ~0 and a denoised value above it is bleed
-    from a bright neighbour.  In lit and noisy areas the local maximum is far above the
-    mean, so the cap does nothing there.
+    If none of the ~1000 paths of the window around a texel carried light, its
+    irradiance is ~0 and a denoised value above it is bleed from a bright neighbour
+    (a contact shadow next to sunlit floor).  The window is wide enough that in
+    bounce-lit shadow, where most single texels see nothing at a few samples, it always
+    holds some light: a 5×5 window at 8 samples cut the mean there by 4 % (measured),
+    an 13×13 one changes nothing.
     """
-    return np.clip(denoised, 0.0, max_filter(raw, radius))
+    return np.clip(denoised, 0.0, max_filter(raw, guard_radius(samples)))
 
 
 def _image(name, rgb):

@@ -261,7 +261,7 @@ class ExposureBake:
         rgb = px[..., :3]
         if self.settings.denoise:
             guide = _denoise.island_colours(self.islands[obj.name])
-            rgb = _denoise.guard(_denoise.denoise(rgb, guide), rgb)
+            rgb = _denoise.guard(_denoise.denoise(rgb, guide), rgb, self.settings.samples)
         lux = np.maximum(luminance(rgb), 0.0) * LUX_PER_BAKE_UNIT
         px[..., :3] = lux[..., None]
         px[..., 3] = 1.0

@@ -27,8 +27,8 @@ class Preset:
 
 PRESETS = {
     "PREVIEW": Preset(
-        "Preview", "2 samples per texel, denoised: a quick look at where the light falls",
-        samples=2, denoise=True, relative_time=0.07, noise_lit=0.003, noise_shadow=0.10),
+        "Preview", "4 samples per texel, denoised: a quick look at where the light falls",
+        samples=4, denoise=True, relative_time=0.07, noise_lit=0.003, noise_shadow=0.10),
     "FINAL": Preset(
         "Final", "8 samples per texel, denoised: the exposure the aging uses",
         samples=8, denoise=True, relative_time=0.16, noise_lit=0.002, noise_shadow=0.065),

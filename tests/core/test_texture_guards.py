@@ -1,0 +1,123 @@
+"""TextureAger behaviours that bugs have broken before: UV filter, many colours,
+reciprocity, bad numbers, years far past 100, every output in [0, 1]."""
+
+import numpy as np
+import pytest
+
+from lightfade_addon.core import texels
+from lightfade_addon.core.aging import Light, TextureAger
+from lightfade_addon.core.colorimetry import (
+    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
+from lightfade_addon.core.exact import age_image_exact
+
+
+def lab(img_srgb):
+    return XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(np.asarray(img_srgb, float).reshape(-1, 3))))
+
+
+@pytest.fixture(scope="module")
+def image():
+    rng = np.random.default_rng(4)
+    y, x = np.mgrid[0:16, 0:20] / 16
+    rgb = np.stack([0.55 + 0.35 * np.sin(4 * x), 0.45 + 0.35 * np.cos(3 * y), 0.4 + 0.3 * x * y],
+                   -1)
+    return np.clip(rgb + rng.normal(0, 0.02, rgb.shape), 0, 1).astype(np.float32)
+
+
+def test_uv_filter_slows_yellowing_under_daylight():
+    """Lignin reacts to UV: behind a UV filter bare wood yellows far less."""
+    wood = np.full((4, 4, 3), [0.75, 0.6, 0.45], dtype=np.float32)
+    bare = TextureAger(wood, "bare-wood", [Light("daylight", lux=2000)], encoding="srgb",
+                       max_years=5).age(5)
+    filtered = TextureAger(wood, "bare-wood", [Light("daylight", True, lux=2000)],
+                           encoding="srgb", max_years=5).age(5)
+    fade_bare = delta_E_2000(lab(wood), lab(bare)).mean()
+    fade_filtered = delta_E_2000(lab(wood), lab(filtered)).mean()
+    assert fade_bare > 1 and fade_filtered < 0.5 * fade_bare
+
+
+def test_reciprocity_at_texture_level(image):
+    """Only lux × hours matters: 300 lux for 10 years = 3000 lux for 1 year = half the
+    exposure for twice as long."""
+    a = TextureAger(image, "dyed-fabric", [Light(lux=300)], encoding="srgb", max_years=10).age(10)
+    b = TextureAger(image, "dyed-fabric", [Light(lux=3000)], encoding="srgb", max_years=1).age(1)
+    c = TextureAger(image, "dyed-fabric", [Light(lux=3000)], np.full(image.shape[:2], 0.5),
+                    encoding="srgb", max_years=2).age(2)
+    assert delta_E_2000(lab(image), lab(a)).mean() > 1      # it did fade
+    np.testing.assert_allclose(a, b, atol=2e-4)
+    np.testing.assert_allclose(a, c, atol=2e-4)
+
+
+def test_years_far_above_100(image):
+    ager = TextureAger(image, "painted-wood", [Light(lux=500)], encoding="srgb", max_years=800)
+    d100 = delta_E_2000(lab(image), lab(ager.age(100))).mean()
+    d800 = delta_E_2000(lab(image), lab(ager.age(800))).mean()
+    assert d800 > d100 + 1
+    with pytest.raises(ValueError, match="max_years"):
+        ager.age(801)
+
+
+def test_more_than_max_keys_colours_stay_close_to_the_exact_path(image, monkeypatch):
+    """The binned path (more distinct colours than keys) against the exact path."""
+    monkeypatch.setattr(texels, "MAX_KEYS", 300)      # 320 colours > 300 keys
+    light = Light(lux=1500)
+    binned = TextureAger(image, "printed-paper", [light], encoding="srgb", max_years=5).age(5)
+    exact = age_image_exact(image, [5.0], "printed-paper", light)[0]
+    err = delta_E_2000(lab(binned), lab(exact))
+    assert err.max() < 2.0 and np.percentile(err, 90) < 0.5
+    assert delta_E_2000(lab(image), lab(exact)).mean() > 3   # a real fade
+
+
+def test_binned_keys_are_bounded_and_close_in_concentration(image):
+    from lightfade_addon.core.recipes import get_recipe
+    from lightfade_addon.core.unmix import get_unmixer
+
+    um = get_unmixer(get_recipe("printed-paper"))
+    flat = image.reshape(-1, 3)
+    key, c = texels.texel_concentrations(flat, um, max_keys=300)
+    assert c.shape[0] <= 300 and key.max() < c.shape[0]
+    exact = um.unmix(flat, encoded=True, refine=2)
+    assert np.median(np.abs(c[key] - exact)) < 0.02
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_non_finite_inputs_are_refused(image, bad):
+    img = image.copy()
+    img[3, 4, 1] = bad
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        TextureAger(img, "printed-paper", [Light()])
+    with pytest.raises(ValueError, match="NaN or infinite"):
+        age_image_exact(img, [1.0])
+    expo = np.ones(image.shape[:2])
+    expo[0, 0] = bad
+    with pytest.raises(ValueError, match="exposure"):
+        TextureAger(image, "printed-paper", [Light()], expo)
+    ager = TextureAger(image, "printed-paper", [Light()], max_years=5)
+    with pytest.raises(ValueError, match="years"):
+        ager.age(bad)
+    with pytest.raises(ValueError, match="max_years"):
+        TextureAger(image, "printed-paper", [Light()], max_years=bad)
+
+
+@pytest.mark.parametrize("encoding", ["srgb", "linear"])
+def test_every_output_is_finite_and_in_range(encoding):
+    """Saturated colours that leave the gamut when aged are mapped back, in every path."""
+    hues = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [0.5, 0, 1], [0, 1, 1],
+                     [1, 1, 0], [0.02, 0.02, 0.02], [1, 1, 1]], np.float32)
+    img = np.repeat(hues[None], 4, 0)
+    lights = [Light("daylight", lux=5000)]
+    ager = TextureAger(img, "dyed-fabric", lights, encoding=encoding, max_years=500)
+    out = np.full((img.size // 3, 4), 0.5, np.float32)
+    for y in (0, 0.5, 50, 500):
+        for aged in (ager.age(y), ager.age(y, out=out)[:, :3]):
+            assert np.all(np.isfinite(aged)) and aged.min() >= 0 and aged.max() <= 1
+    for aged in age_image_exact(img, [50.0, 500.0], "dyed-fabric", lights[0], encoding=encoding):
+        assert np.all(np.isfinite(aged)) and aged.min() >= 0 and aged.max() <= 1
+
+
+def test_an_input_outside_the_range_is_mapped_in_on_construction():
+    img = np.array([[[1.3, 0.5, -0.2], [0.2, 0.4, 0.6]]], np.float32)
+    ager = TextureAger(img, "printed-paper", [Light()], encoding="linear", max_years=1)
+    zero = ager.age(0)
+    assert zero.min() >= 0 and zero.max() <= 1
+    np.testing.assert_array_equal(zero[0, 1], img[0, 1])
