@@ -527,3 +527,29 @@ class TestProgressAndCancel:
         bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL,
                       progress=lambda fraction, message: seen.append((fraction, message)))
         assert [f for f, _ in seen] == [0.5, 1.0] and "Floor" in seen[0][1]
+
+
+class TestSettings:
+    def test_preset_samples_unless_set(self, blender):
+        scene = bpy.context.scene
+        assert BakeSettings.from_scene(scene).samples == 8  # Final: 8 samples, denoised
+        scene.lightfade.bake_samples = 24  # a script or api.bake(samples=24)
+        assert BakeSettings.from_scene(scene).samples == 24
+        scene.lightfade_bake.quality = "PREVIEW"  # picking a preset forgets it
+        settings = BakeSettings.from_scene(scene)
+        assert (settings.samples, settings.denoise, settings.resolution) == (4, True, None)
+        scene.lightfade_bake.quality = "CUSTOM"
+        scene.lightfade_bake.denoise = False
+        settings = BakeSettings.from_scene(scene)
+        assert (settings.samples, settings.denoise) == (64, False)
+
+    def test_calibration_gives_an_estimate(self, floor_scene):
+        from lightfade_addon.blender.bake import calibrate, sizing
+
+        scene = bpy.context.scene
+        assert sizing.estimate(scene, [[64, 32]], 8, True).seconds is None
+        rate, overhead = calibrate(scene, floor_scene["floor"])
+        assert rate > 1e4 and overhead >= 0
+        est = sizing.estimate(scene, [[64, 32], [64]], 8, True)
+        assert est.texel_samples == (64 * 64 * 2 + 32 * 32) * 8 and est.calls == 2
+        assert est.seconds > 0 and "s" in est.text()
