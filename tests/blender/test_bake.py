@@ -373,6 +373,8 @@ class TestPhotometry:
 
     def test_world_counts_only_with_a_spectrum(self, floor_scene, lf):
         world = bpy.data.worlds.new("Sky")
+        if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+            world.use_nodes = True
         world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.5
         world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
         bpy.context.scene.world = world
@@ -409,6 +411,8 @@ class TestPhotometry:
         bpy.ops.mesh.primitive_plane_add(size=2.0, location=(0.0, 1.0, 1.0), rotation=(math.radians(90), 0, 0))
         wall = bpy.context.active_object
         green = bpy.data.materials.new("Green")
+        if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+            green.use_nodes = True
         green.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.0, 0.8, 0.0, 1.0)
         wall.data.materials.append(green)
         floor_scene["sun"].rotation_euler = (math.radians(-40), 0.0, 0.0)  # lights the wall's face
