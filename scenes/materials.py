@@ -214,7 +214,8 @@ def build(path=None, resolution=64):
     awning = bpy.context.active_object
     awning.name = "Awning"
     awning.scale = (x + 4.0, 3.0, 0.05)
-    awning.data.materials.append(C.plain_material("Awning", (0.5, 0.5, 0.5)))
+    # dark underneath, so that little light bounces from the lit halves into the shade
+    awning.data.materials.append(C.plain_material("Awning", (0.02, 0.02, 0.02)))
     C.add_light("Sun", "SUN", C.sun_strength_for_lux(SUN_LUX), (0.0, 0.0, 5.0),
                 spectrum="daylight-glass", hours_per_day=8.0, uv_filter=False,
                 direction=(0.0, 0.0, -1.0), angle=0.0)

@@ -306,6 +306,14 @@ class TestErrors:
 
 
 class TestHelpers:
+    def test_mask_luminance_is_rec_709_of_the_stored_values(self):
+        from lightfade_addon.commands.age_image import exposure_from_mask
+
+        rgb = np.array([[[1, 0, 0], [0, 1, 0], [0, 0, 1], [0.5, 0.5, 0.5], [2, 2, 2]]],
+                       np.float32)
+        np.testing.assert_allclose(exposure_from_mask(rgb),
+                                   [[0.2126, 0.7152, 0.0722, 0.5, 1.0]], rtol=1e-6)
+
     def test_bounds_are_inclusive_and_finite(self):
         import argparse
 

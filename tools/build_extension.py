@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import os
 import re
 import shutil
 import subprocess
@@ -118,7 +119,11 @@ def stage(platforms, blender_ext):
     for relpath in wheels:
         dest = STAGE / relpath
         dest.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(fetch_wheel(relpath), dest)
+        wheel = fetch_wheel(relpath)
+        try:
+            os.link(wheel, dest)  # no second copy of ~300 MB of wheels
+        except OSError:
+            shutil.copyfile(wheel, dest)
     return STAGE
 
 

@@ -45,7 +45,7 @@ def _new_copy(obj, material, plan, years):
     props.path = plan.path
     props.reason = plan.reason
     props.uv_map = exposure_uv(obj)
-    props.max_years = max(runtime.MIN_PREPARED_YEARS, 2.0 * years)
+    props.max_years = runtime.prepared_range(years)
     h, w = exposure_shape(obj)
     if plan.path == "DIRECT":
         props.albedo = plan.image

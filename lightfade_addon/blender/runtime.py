@@ -32,6 +32,16 @@ from .vocabulary import RECIPE_IDS
 MIN_PREPARED_YEARS = 100.0
 
 
+def prepared_range(years):
+    """Years a preparation covers: 100 × the smallest power of two holding ``years``.
+
+    The same rule sizes the temporary far-years ager (:func:`far_ager`), so the slider
+    past the range and an Age at that many years use the same dose axis and agree.
+    """
+    k = max(0, math.ceil(math.log2(max(years, 1e-12) / MIN_PREPARED_YEARS) - 1e-12))
+    return MIN_PREPARED_YEARS * 2.0 ** k
+
+
 @dataclass
 class Prepared:
     """A prepared copy: the ager, the pixel buffer and what it was built from."""
@@ -143,11 +153,10 @@ def prepare(scene, copy, shape, progress=None):
 def far_ager(state, years):
     """An ager covering ``years`` beyond the prepared range, in memory only.
 
-    Its range is the prepared one times the next power of ten that covers ``years``, so
-    every process computes the same values for the same years.
+    Its range is :func:`prepared_range` of ``years``, so every process (and an Age at
+    that many years) computes the same values for the same years.
     """
-    base = state.ager.max_years
-    max_years = base * 10.0 ** math.ceil(math.log10(years / base) - 1e-12)
+    max_years = prepared_range(years)
     if state.far and state.far[0].max_years == max_years:
         return state.far[0]
     rgb, recipe, lights, exposure = state.inputs

@@ -48,7 +48,8 @@ def carpet(floor_scene):
 def footprint(obj):
     lux = rgba(obj.lightfade.exposure_maps["Sun"].image)[..., 0]
     near = np.max([np.roll(lux, (i, j), (0, 1)) for i in range(-2, 3) for j in range(-2, 3)], 0)  # 2-texel rim: denoised edges
-    return near < 0.001 * np.percentile(lux, 90), lux > 0.5 * np.percentile(lux, 90)
+    # ~1 lux at most: the grid's first dose interval overestimates the fade of dim texels
+    return near < 1e-4 * np.percentile(lux, 90), lux > 0.5 * np.percentile(lux, 90)
 
 
 class TestAge:
@@ -334,3 +335,11 @@ def test_diffuse_bsdf_colour_is_aged(carpet):
     assert copy.lightfade.path == "DIRECT"
     fed = copy.node_tree.nodes[diffuse.name].inputs["Color"].links[0].from_node
     assert fed.image == copy.lightfade.aged_image
+
+
+def test_bake_operator_refuses_material_problems_before_cycles(floor_scene):
+    tree = floor_scene["material"].node_tree
+    tree.nodes.remove(tree.nodes["Principled BSDF"])
+    with pytest.raises(RuntimeError, match="Carpet.*no Principled or Diffuse BSDF"):
+        bpy.ops.lightfade.bake_exposure()
+    assert len(floor_scene["floor"].lightfade.exposure_maps) == 0

@@ -373,6 +373,8 @@ class TestPhotometry:
 
     def test_world_counts_only_with_a_spectrum(self, floor_scene, lf):
         world = bpy.data.worlds.new("Sky")
+        if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+            world.use_nodes = True
         world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.5
         world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
         bpy.context.scene.world = world
@@ -409,6 +411,8 @@ class TestPhotometry:
         bpy.ops.mesh.primitive_plane_add(size=2.0, location=(0.0, 1.0, 1.0), rotation=(math.radians(90), 0, 0))
         wall = bpy.context.active_object
         green = bpy.data.materials.new("Green")
+        if bpy.app.version < (5, 0, 0):  # Blender 4.x: no node tree until this (5.0+: always on)
+            green.use_nodes = True
         green.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.0, 0.8, 0.0, 1.0)
         wall.data.materials.append(green)
         floor_scene["sun"].rotation_euler = (math.radians(-40), 0.0, 0.0)  # lights the wall's face
@@ -523,3 +527,29 @@ class TestProgressAndCancel:
         bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL,
                       progress=lambda fraction, message: seen.append((fraction, message)))
         assert [f for f, _ in seen] == [0.5, 1.0] and "Floor" in seen[0][1]
+
+
+class TestSettings:
+    def test_preset_samples_unless_set(self, blender):
+        scene = bpy.context.scene
+        assert BakeSettings.from_scene(scene).samples == 8  # Final: 8 samples, denoised
+        scene.lightfade.bake_samples = 24  # a script or api.bake(samples=24)
+        assert BakeSettings.from_scene(scene).samples == 24
+        scene.lightfade_bake.quality = "PREVIEW"  # picking a preset forgets it
+        settings = BakeSettings.from_scene(scene)
+        assert (settings.samples, settings.denoise, settings.resolution) == (4, True, None)
+        scene.lightfade_bake.quality = "CUSTOM"
+        scene.lightfade_bake.denoise = False
+        settings = BakeSettings.from_scene(scene)
+        assert (settings.samples, settings.denoise) == (64, False)
+
+    def test_calibration_gives_an_estimate(self, floor_scene):
+        from lightfade_addon.blender.bake import calibrate, sizing
+
+        scene = bpy.context.scene
+        assert sizing.estimate(scene, [[64, 32]], 8, True).seconds is None
+        rate, overhead = calibrate(scene, floor_scene["floor"])
+        assert rate > 1e4 and overhead >= 0
+        est = sizing.estimate(scene, [[64, 32], [64]], 8, True)
+        assert est.texel_samples == (64 * 64 * 2 + 32 * 32) * 8 and est.calls == 2
+        assert est.seconds > 0 and "s" in est.text()

@@ -93,7 +93,7 @@ try:
     bpy.context.scene.collection.objects.link(sun)
     scene = bpy.context.scene
     api.bake(scene, objects=[plane], resolution=64, samples=4, margin=2)
-    aged_images = list(api.age_scene(scene, years=25))
+    aged_images = list(api.age_scene(scene, years=2))
     result["aged_images"] = [im.name for im in aged_images]
     aged = aged_images[0]
 
@@ -109,9 +109,10 @@ try:
     image.pixels.foreach_get(now)
     result["original_untouched"] = bool(np.array_equal(now, original)) and image.size[:] == (64, 64)
     diff = np.abs(linear_rgb(aged) - linear_rgb(image))
-    # The box covers u, v in [0.55, 0.85]: texels well inside are in shadow, texels with
-    # u, v < 0.45 in the sun.
-    result["shadow_change"] = float(diff[40:52, 40:52].max())
+    # The box covers u, v in [0.55, 0.85] (texels 35-54): texels 7 deep inside are in
+    # shadow (the 4-sample bake leaves < 0.1 lux there, 1.4 lux 5 texels in; the sun gives
+    # 14,000), texels with u, v < 0.45 in the sun.
+    result["shadow_change"] = float(diff[42:50, 42:50].max())
     result["lit_change"] = float(diff[4:26, 4:26].mean())
     result["lit_min_change"] = float(diff[4:26, 4:26].max(axis=-1).min())
 

@@ -114,8 +114,8 @@ class TestYears:
         bpy.context.scene.lightfade.years = 150            # the slider, past the range
         slider = aged(carpet["material"]).copy()
         assert np.abs(slider - hundred).max() > 0.005
-        api.age_scene(scene, years=150)                    # prepared up to 300 years
-        assert np.percentile(dE(slider, aged(carpet["material"])), 99) < 1
+        api.age_scene(scene, years=150)                    # prepared up to 200 years
+        np.testing.assert_allclose(aged(carpet["material"]), slider, atol=1e-5)
 
     @pytest.mark.parametrize("years", [0, 50, 500])
     def test_every_written_pixel_is_finite_and_in_range(self, carpet, years):
@@ -158,7 +158,8 @@ class TestYears:
         api.age_scene(scene, years=5)
         assert np.percentile(dE(aged(carpet["material"]), eight), 90) > 2
         api.age_scene(scene, years=20)
-        assert np.percentile(dE(aged(carpet["material"]), eight), 99) < 1
+        d = dE(aged(carpet["material"]), eight)
+        assert np.median(d) < 0.5 and np.percentile(d, 99) < 1.5
 
 
 class TestReset:
@@ -291,7 +292,9 @@ class TestLights:
         assert bpy.ops.lightfade.bake_exposure() == {"FINISHED"}
         assert len(carpet["floor"].lightfade.exposure_maps) == 1        # one light group
         api.age_scene(scene, years=3)
-        assert np.percentile(dE(aged(carpet["material"]), one), 99) < 0.5
+        # two separate noisy bakes: compare the bulk (shadow edges differ by bake noise);
+        # one lamp's light lost would put the median at several ΔE
+        assert np.median(dE(aged(carpet["material"]), one)) < 0.5
 
     def test_uv_filter_slows_fading(self, carpet):
         from lightfade_addon import api

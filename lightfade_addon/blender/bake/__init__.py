@@ -13,6 +13,7 @@ Modules, one job each:
 ``targets``  which objects are baked; the target image nodes in their real materials
 ``denoise``  OIDN through Blender's compositor, guided by UV islands
 ``exposure`` the bake loop (one Cycles call per group), :func:`bake_exposure`
+``calibration`` two tiny bakes that give the estimate its rate
 ``maps``     storing maps; reading them back for aging; signature; removal
 ``panel``    the Exposure Bake panel's contents
 """
@@ -26,7 +27,8 @@ from .common import (
     exposure_image_name,
 )
 from .emitters import Emitter, LightGroup, find_emitters, find_groups, group_emitters
-from .exposure import BakeSettings, ExposureBake, bake_exposure, calibrate
+from .calibration import calibrate
+from .exposure import BakeSettings, ExposureBake, bake_exposure
 from .maps import (
     StaleExposureError,
     exposure_signature,

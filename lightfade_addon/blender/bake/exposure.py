@@ -66,12 +66,17 @@ class BakeSettings:
 
     @classmethod
     def from_scene(cls, scene, unwrap=False):
-        """The scene's settings: quality preset, density, max size (``bake_resolution``)."""
+        """The scene's settings: quality preset, density, max size (``bake_resolution``).
+
+        Samples come from the preset unless ``Scene.lightfade.bake_samples`` was set (the
+        Custom quality, a script, ``api.bake(samples=...)``); choosing a preset unsets it.
+        """
         props, bake = scene.lightfade, scene.lightfade_bake
         preset = PRESETS.get(bake.quality)
+        custom = preset is None or props.is_property_set("bake_samples")
         return cls(
             resolution=None,
-            samples=preset.samples if preset else props.bake_samples,
+            samples=props.bake_samples if custom else preset.samples,
             margin=props.bake_margin,
             unwrap=unwrap,
             denoise=preset.denoise if preset else bake.denoise,
@@ -86,7 +91,7 @@ class _Step:
     objects: list
 
 
-def _scene_and_layer(context_or_scene):
+def scene_and_layer(context_or_scene):
     if isinstance(context_or_scene, bpy.types.Scene):
         scene = context_or_scene
         layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
@@ -101,7 +106,7 @@ class ExposureBake:
 
     def __init__(self, context_or_scene, objects=None, settings=None, report=None,
                  progress=None, only_changed=False):
-        self.scene, self.view_layer = _scene_and_layer(context_or_scene)
+        self.scene, self.view_layer = scene_and_layer(context_or_scene)
         self.settings = settings or BakeSettings.from_scene(self.scene)
         self.report = report or print
         self.progress = progress
@@ -369,31 +374,3 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
         "seconds": time.perf_counter() - start,
     }
 
-
-def calibrate(context_or_scene, obj=None):
-    """Time two tiny bakes of one target on this scene; store and return the rate.
-
-    Returns ``(texel-samples per second, seconds per call)``; :func:`.sizing.estimate`
-    uses it for this scene.
-    """
-    scene, layer = _scene_and_layer(context_or_scene)
-    objects = [obj] if obj is not None else None
-    job = ExposureBake(scene, objects, BakeSettings(resolution=32, samples=1, denoise=False),
-                       report=lambda msg: None, progress=lambda f, m: None).plan()
-    target = job.targets[:1]
-    group = job.groups[0]
-
-    def run(size, samples):
-        with BakeState(scene, layer) as state:
-            state.configure(samples, 0)
-            nodes = attach_targets(state, target)
-            image = state.new_image("calibration", size)
-            for node in nodes[target[0].name]:
-                node.image = image
-            isolate(state, scene, group)
-            state.select_only(target)
-            check_bake_result(state.bake(), target, group)
-
-    rate = sizing.calibrate(run)
-    sizing.CALIBRATION[scene.session_uid] = rate
-    return rate

@@ -28,8 +28,8 @@ class Preset:
 PRESETS = {
     "PREVIEW": Preset(
         "Preview", "4 samples per texel, denoised: a quick look at where the light falls",
-        samples=4, denoise=True, relative_time=0.07, noise_lit=0.003, noise_shadow=0.10),
+        samples=4, denoise=True, relative_time=0.10, noise_lit=0.0021, noise_shadow=0.054),
     "FINAL": Preset(
         "Final", "8 samples per texel, denoised: the exposure the aging uses",
-        samples=8, denoise=True, relative_time=0.16, noise_lit=0.002, noise_shadow=0.065),
+        samples=8, denoise=True, relative_time=0.15, noise_lit=0.0015, noise_shadow=0.057),
 }

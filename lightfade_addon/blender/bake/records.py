@@ -88,6 +88,12 @@ QUALITY_ITEMS = tuple(
     (key, preset.label, preset.description) for key, preset in PRESETS.items()
 ) + (("CUSTOM", "Custom", "The samples and denoising set below"),)
 
+def _on_quality_changed(self, context):
+    # A preset brings its own samples: forget samples set for Custom or by a script.
+    if self.quality in PRESETS:
+        self.id_data.lightfade.property_unset("bake_samples")
+
+
 class LIGHTFADE_PG_bake_settings(PropertyGroup):
     """How exposure is baked: quality preset, texel density, denoising."""
 
@@ -96,6 +102,7 @@ class LIGHTFADE_PG_bake_settings(PropertyGroup):
         description="Samples and denoising of the exposure bake",
         items=QUALITY_ITEMS,
         default="FINAL",
+        update=_on_quality_changed,
     )
     denoise: BoolProperty(
         name="Denoise",

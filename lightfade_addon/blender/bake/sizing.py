@@ -20,8 +20,8 @@ from .uvmaps import evaluated_mesh, triangle_uvs
 MIN_SIZE = 16
 #: Share of the 0-1 square Smart UV Project typically fills (for a map not made yet).
 UNWRAP_FILL = 0.6
-#: Denoising cost, seconds per million texels on 2 cores (measured, docs/bake.md).
-DENOISE_SECONDS_PER_MTEXEL = 2.0
+#: Denoising cost, seconds per million texels on 2 cores (4.3 s of CPU per 1024² map, docs/bake.md).
+DENOISE_SECONDS_PER_MTEXEL = 2.2
 
 
 def _areas(tri3, tri_uv):

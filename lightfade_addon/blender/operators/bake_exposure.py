@@ -11,6 +11,7 @@ from bpy.props import BoolProperty
 
 from ..bake import BakeCancelled, BakeSettings, ExposureBake, LightFadeBakeError, bake_exposure
 from ..bake import calibrate
+from ..targets import format_problems, material_problems
 
 
 class LIGHTFADE_OT_bake_exposure(bpy.types.Operator):
@@ -47,7 +48,16 @@ selected, every mesh whose material has LightFade enabled).  Esc cancels"""
     def _warn(self, msg):
         self.report({"WARNING"}, msg)
 
+    def _material_problems(self, context):
+        """Material problems Age would refuse, reported before any Cycles work."""
+        problems = material_problems(context.scene, list(context.selected_objects))
+        if problems:
+            self.report({"ERROR"}, format_problems(problems))
+        return bool(problems)
+
     def execute(self, context):
+        if self._material_problems(context):
+            return {"CANCELLED"}
         try:
             result = bake_exposure(context, list(context.selected_objects), self._settings(context),
                                    report=self._warn, only_changed=self._only_changed(context))
@@ -63,6 +73,8 @@ selected, every mesh whose material has LightFade enabled).  Esc cancels"""
     def invoke(self, context, event):
         if context.window is None or bpy.app.background:
             return self.execute(context)
+        if self._material_problems(context):
+            return {"CANCELLED"}
         wm = context.window_manager
         self._job = ExposureBake(context, list(context.selected_objects), self._settings(context),
                                  report=self._warn, progress=self._progress,
