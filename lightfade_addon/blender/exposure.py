@@ -54,8 +54,7 @@ def lights_and_exposure(scene, obj, shape):
 def exposure_problem(scene, obj):
     """One line saying why ``obj`` cannot be aged for lack of exposure, or None."""
     if not _maps(obj):
-        return (f"Object '{obj.name}' has no exposure maps from enabled emitters: run Bake "
-                "Exposure first")
+        return f"Object '{obj.name}' has no exposure maps: run Bake Exposure first"
     try:
         bake.lights_and_exposure(scene, obj, (1, 1))
     except bake.LightFadeBakeError as err:
