@@ -19,7 +19,7 @@ import numpy as np
 
 from .cache import load_or_build
 from .colorimetry import linear_srgb_to_XYZ, srgb_decode, srgb_encode, XYZ_to_linear_srgb
-from .gamut import encode_in_gamut, into_gamut, out_of_gamut
+from .gamut import encode_in_gamut, into_gamut_planes, out_of_gamut
 from .grid import GridSettings
 from .lattice import DOSE_POWER, dose_index, simplex_interpolation
 from .lights import HOURS_PER_YEAR_DEFAULT, Light, dose_rates, spectra_keys
@@ -269,11 +269,8 @@ class TextureAger:
             XYZ = self._change(s0, s1, root)
             XYZ *= self._XYZ[:, s0:s1]
             target = res[s0:s1, :3] if rgba else res.reshape(n, 3)[s0:s1]
-            if self.encoding == "srgb":
-                target[:] = encode_in_gamut((self._to_rgb @ XYZ).T, "srgb")
-            else:
-                np.matmul(XYZ.T, self._to_rgb.T, out=target)        # straight into RGBA
-                into_gamut(target, out=target)
+            rgb = into_gamut_planes(self._to_rgb @ XYZ)            # (3, k), in [0, 1]
+            target[:] = (srgb_encode(rgb) if self.encoding == "srgb" else rgb).T
         return res if rgba else res.reshape(self.shape)
 
 

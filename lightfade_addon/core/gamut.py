@@ -23,7 +23,7 @@ import numpy as np
 
 from .colorimetry import srgb_encode
 
-__all__ = ["LUMA", "encode_in_gamut", "into_gamut", "out_of_gamut"]
+__all__ = ["LUMA", "encode_in_gamut", "into_gamut", "into_gamut_planes", "out_of_gamut"]
 
 #: Rec. 709 / sRGB luminance weights (the Y row of the linear sRGB → XYZ matrix).
 LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
@@ -85,6 +85,20 @@ def into_gamut(rgb, out=None):
     t = np.clip(np.minimum(t_hi, t_lo).min(axis=1, keepdims=True), 0.0, 1.0)
     flat[bad] = np.clip(Y + t * d, 0.0, 1.0)          # the clip only absorbs rounding
     return out
+
+
+def into_gamut_planes(planes):
+    """:func:`into_gamut` for colours stored as (3, k) planes, in place (fast path).
+
+    Only the columns outside [0, 1] are gathered and mapped; the check runs over
+    contiguous planes.
+    """
+    lo = np.minimum(np.minimum(planes[0], planes[1]), planes[2])
+    hi = np.maximum(np.maximum(planes[0], planes[1]), planes[2])
+    bad = np.flatnonzero(~((lo >= 0) & (hi <= 1)))
+    if bad.size:
+        planes[:, bad] = into_gamut(np.ascontiguousarray(planes[:, bad].T)).T
+    return planes
 
 
 def encode_in_gamut(linear, encoding="linear"):

@@ -54,7 +54,7 @@ class GridSettings:
     points: int = 10
     power: float = 1.6
     doses: int = 65
-    mix: int = 2
+    mix: int = 4
 
 
 def cubic_spline(axes, values):
