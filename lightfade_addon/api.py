@@ -9,7 +9,7 @@ add-on must be enabled (its properties are registered by ``register()``)::
     addon_utils.enable(mod.__name__, default_set=True)
     api = importlib.import_module(mod.__name__ + ".api")
 
-    api.bake(scene, resolution=512, samples=32)       # exposure maps (Cycles)
+    api.bake(scene, quality="FINAL")                  # exposure maps (Cycles), one per light group
     api.age_scene(scene, years=10)                    # aged textures at 10 years
     api.set_years(scene, 25)                          # scrub without re-preparing
     api.material_plan(scene)                          # which path each material takes, why
@@ -35,9 +35,12 @@ def _scene(scene):
 
 
 def bake(scene=None, objects=None, resolution=None, samples=None, margin=None, unwrap=False,
-         progress=None):
+         progress=None, quality=None, density=None):
     """Bake exposure maps for ``objects`` (default: meshes whose materials are enabled).
 
+    ``quality`` is ``"PREVIEW"``, ``"FINAL"`` or ``"CUSTOM"`` (default: the scene's, FINAL
+    in a new file); ``samples`` counts only with ``"CUSTOM"`` quality. ``density`` is the
+    map density in texels per metre and ``resolution`` the largest map size.
     Returns the :func:`.blender.bake.bake_exposure` result dict (maps per object).
     """
     from .blender.bake import BakeSettings, bake_exposure
@@ -50,6 +53,10 @@ def bake(scene=None, objects=None, resolution=None, samples=None, margin=None, u
         props.bake_samples = int(samples)
     if margin is not None:
         props.bake_margin = int(margin)
+    if quality is not None:
+        scene.lightfade_bake.quality = quality
+    if density is not None:
+        scene.lightfade_bake.texels_per_metre = float(density)
     settings = BakeSettings.from_scene(scene, unwrap=unwrap)
     return bake_exposure(scene, list(objects or []), settings, report=print, progress=progress)
 

@@ -552,3 +552,15 @@ class TestSettings:
         est = sizing.estimate(scene, [[64, 32], [64]], 8, True)
         assert est.texel_samples == (64 * 64 * 2 + 32 * 32) * 8 and est.calls == 2
         assert est.seconds > 0 and "s" in est.text()
+
+
+def test_api_bake_sets_quality_density_and_custom_samples(floor_scene):
+    """``api.bake`` stores its overrides in the scene, so the file remembers how it was baked."""
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    api.bake(scene, quality="CUSTOM", samples=3, density=32.0)
+    assert scene.lightfade_bake.quality == "CUSTOM"
+    assert scene.lightfade.bake_samples == 3
+    assert scene.lightfade_bake.texels_per_metre == 32.0
+    assert len(floor_scene["floor"].lightfade.exposure_maps) == 1
