@@ -10,10 +10,7 @@ import os
 
 import bpy
 
-from ..core import grid
-
-_ENV = "LIGHTFADE_CACHE"
-_set_by_us = []
+from ..core import cache
 
 
 def extension_cache_dir():
@@ -29,21 +26,10 @@ def extension_cache_dir():
 
 def register():
     path = extension_cache_dir()
-    if path is None:
-        return
-    setter = getattr(grid, "set_cache_dir", None)
-    if setter is not None:
-        setter(path)
-        _set_by_us.append("setter")
-    elif _ENV not in os.environ:
-        os.environ[_ENV] = path
-        _set_by_us.append("env")
+    if path is not None:
+        cache.set_directory(path)
 
 
 def unregister():
-    while _set_by_us:
-        how = _set_by_us.pop()
-        if how == "setter":
-            grid.set_cache_dir(None)
-        else:
-            os.environ.pop(_ENV, None)
+    if extension_cache_dir() is not None:
+        cache.set_directory(None)

@@ -90,14 +90,28 @@ def into_gamut(rgb, out=None):
 def into_gamut_planes(planes):
     """:func:`into_gamut` for colours stored as (3, k) planes, in place (fast path).
 
-    Only the columns outside [0, 1] are gathered and mapped; the check runs over
-    contiguous planes.
+    The same rule, computed plane by plane in the planes' own dtype over only the
+    columns outside [0, 1] (the slider's hot path: no transposes, no float64 copy).
     """
     lo = np.minimum(np.minimum(planes[0], planes[1]), planes[2])
     hi = np.maximum(np.maximum(planes[0], planes[1]), planes[2])
-    bad = np.flatnonzero(~((lo >= 0) & (hi <= 1)))
-    if bad.size:
-        planes[:, bad] = into_gamut(np.ascontiguousarray(planes[:, bad].T)).T
+    with np.errstate(invalid="ignore"):
+        bad = np.flatnonzero(~((lo >= 0) & (hi <= 1)))
+    if bad.size == 0:
+        return planes
+    c = planes[:, bad]
+    if not np.all(np.isfinite(c)):
+        raise ValueError("colour contains NaN or infinite values; cannot map it into [0, 1]")
+    luma = LUMA.astype(c.dtype)
+    Y = np.clip(luma[0] * c[0] + luma[1] * c[1] + luma[2] * c[2], 0.0, 1.0)
+    d = c - Y
+    t = np.ones_like(Y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for k in range(3):
+            tk = np.where(c[k] > 1.0, (1.0 - Y) / d[k], np.where(c[k] < 0.0, -Y / d[k], 1.0))
+            np.minimum(t, tk, out=t)
+    np.clip(t, 0.0, 1.0, out=t)
+    planes[:, bad] = np.clip(Y + t * d, 0.0, 1.0)
     return planes
 
 
