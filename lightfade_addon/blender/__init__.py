@@ -17,13 +17,15 @@ classes = (
     *panels.CLASSES,
 )
 
+#: Every ``(ID type, attribute, property group)`` LightFade attaches, in order.
+pointers = (*properties.POINTERS, *bake_records.POINTERS)
+
 
 def register():
     """Register the classes in order, then attach ``Scene.lightfade`` & co."""
     for cls in classes:
         bpy.utils.register_class(cls)
-    properties.register_pointers()
-    bake_records.register_pointers()
+    properties.register_pointers(pointers)
     handlers.register()
     cache.register()
     cli_command.register()
@@ -34,7 +36,6 @@ def unregister():
     cli_command.unregister()
     cache.unregister()
     handlers.unregister()
-    bake_records.unregister_pointers()
-    properties.unregister_pointers()
+    properties.unregister_pointers(pointers)
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)

@@ -317,15 +317,15 @@ POINTERS = (
 )
 
 
-def register_pointers():
-    """Attach the property groups to Blender's ID types (after the classes are registered)."""
-    for id_type, attr, group in POINTERS:
+def register_pointers(pointers=POINTERS):
+    """Attach ``(ID type, attribute, property group)`` triples (after the classes are registered)."""
+    for id_type, attr, group in pointers:
         setattr(id_type, attr, PointerProperty(type=group, name="LightFade",
                                                description="LightFade settings"))
 
 
-def unregister_pointers():
+def unregister_pointers(pointers=POINTERS):
     """Remove what :func:`register_pointers` attached, in reverse order."""
-    for id_type, attr, _group in reversed(POINTERS):
+    for id_type, attr, _group in reversed(pointers):
         if hasattr(id_type, attr):
             delattr(id_type, attr)

@@ -8,7 +8,8 @@
     size, the custom sample count and the margin stay in ``Scene.lightfade``
     (``bake_resolution``, ``bake_samples``, ``bake_margin``).
 
-Registered by :func:`register` (classes, then pointers), undone by :func:`unregister`.
+Registered by :mod:`lightfade_addon.blender` with the other classes and pointers
+(:data:`CLASSES`, :data:`POINTERS`).
 """
 
 import bpy
@@ -26,10 +27,12 @@ from bpy.types import PropertyGroup
 from ..vocabulary import EMITTER_KIND_ITEMS
 from .presets import PRESETS
 
+
 class LIGHTFADE_PG_emitter_ref(PropertyGroup):
     """One emitter of a light group (``name`` is the light object, "World" or the mesh)."""
 
     kind: EnumProperty(name="Kind", items=EMITTER_KIND_ITEMS, default="SUN")
+
 
 class LIGHTFADE_PG_exposure_map(PropertyGroup):
     """One baked exposure map: the illuminance (lux) one light group gives each texel.
@@ -60,6 +63,7 @@ class LIGHTFADE_PG_exposure_map(PropertyGroup):
         "baked irradiance) while the group is on",
     )
 
+
 class LIGHTFADE_PG_object(PropertyGroup):
     """Exposure maps baked for a mesh object."""
 
@@ -84,9 +88,11 @@ class LIGHTFADE_PG_object(PropertyGroup):
         default=False,
     )
 
+
 QUALITY_ITEMS = tuple(
     (key, preset.label, preset.description) for key, preset in PRESETS.items()
 ) + (("CUSTOM", "Custom", "The samples and denoising set below"),)
+
 
 class LIGHTFADE_PG_bake_settings(PropertyGroup):
     """How exposure is baked: quality preset, texel density, denoising."""
@@ -117,6 +123,7 @@ class LIGHTFADE_PG_bake_settings(PropertyGroup):
         soft_max=2048.0,
     )
 
+
 CLASSES = (
     LIGHTFADE_PG_emitter_ref,
     LIGHTFADE_PG_exposure_map,
@@ -124,18 +131,10 @@ CLASSES = (
     LIGHTFADE_PG_bake_settings,
 )
 
+
 #: (ID type, attribute, property group): attached in order, removed in reverse.
 POINTERS = (
     (bpy.types.Object, "lightfade", LIGHTFADE_PG_object),
     (bpy.types.Scene, "lightfade_bake", LIGHTFADE_PG_bake_settings),
 )
 
-def register_pointers():
-    for id_type, attr, group in POINTERS:
-        setattr(id_type, attr, PointerProperty(type=group, name="LightFade",
-                                               description="LightFade settings"))
-
-def unregister_pointers():
-    for id_type, attr, _group in reversed(POINTERS):
-        if hasattr(id_type, attr):
-            delattr(id_type, attr)
