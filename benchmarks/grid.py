@@ -160,7 +160,7 @@ def main(argv=None):
     b1 = timed(lambda: build_grid(RECIPE, E1[None], DOSE), 3)
     b2 = timed(lambda: build_grid(RECIPE, np.stack([E1, E2]), DOSE), 3)
     rows += [f"| grid build, 1 spectrum (1000 nodes × 65 doses) | {b1:.2f} s |",
-             f"| grid build, 2 spectra (3 mixes) | {b2:.2f} s |"]
+             f"| grid build, 2 spectra (5 light mixes) | {b2:.2f} s |"]
     for n in (2048, 512):
         rgb = srgb_decode(synthetic_photo(n, n)).astype(np.float32)   # linear, as in Blender
         y, x = np.mgrid[0:n, 0:n] / n
