@@ -438,6 +438,21 @@ class TestUVChecks:
         assert calls == []
         assert "LightFadeUV" not in floor_scene["floor"].data.uv_layers
 
+    def test_operator_reports_material_and_geometry_problems_in_one_message(self, floor_scene,
+                                                                           monkeypatch):
+        calls = _count_bakes(monkeypatch)
+        floor_scene["floor"].modifiers.new("Mirror", "MIRROR").mirror_offset_u = 0.0
+        missing = bpy.data.images.new("Missing", 8, 8)
+        missing.source = "FILE"
+        missing.filepath = "//nowhere.png"
+        floor_scene["material"].node_tree.nodes["Image Texture"].image = missing
+        with pytest.raises(RuntimeError) as err:
+            bpy.ops.lightfade.bake_exposure()
+        message = str(err.value)
+        assert "2 problems" in message
+        assert "Image 'Missing'" in message and "Mirror modifier" in message
+        assert calls == [] and not floor_scene["floor"].lightfade.exposure_maps
+
     def test_overlapping_islands_get_a_lightfade_uv(self, floor_scene, lf):
         # Two floor tiles whose UVs both cover the whole square (a trim-sheet habit).
         mesh = bpy.data.meshes.new("Strip")

@@ -48,15 +48,24 @@ selected, every mesh whose material has LightFade enabled).  Esc cancels"""
     def _warn(self, msg):
         self.report({"WARNING"}, msg)
 
-    def _material_problems(self, context):
-        """Material problems Age would refuse, reported before any Cycles work."""
-        problems = material_problems(context.scene, list(context.selected_objects))
+    def _refused(self, context):
+        """Every problem that would refuse the bake or the Age after it — the materials'
+        and the bake's own checks (UVs, modifiers, emitters) — reported in one message
+        before any Cycles work.  True if there was any."""
+        objects = list(context.selected_objects)
+        problems = material_problems(context.scene, objects)
+        dry_run = ExposureBake(context, objects, self._settings(context), report=lambda msg: None,
+                               only_changed=self._only_changed(context))
+        try:
+            dry_run.plan()
+        except LightFadeBakeError as err:
+            problems += [line for line in str(err).splitlines() if line.strip()]
         if problems:
             self.report({"ERROR"}, format_problems(problems))
         return bool(problems)
 
     def execute(self, context):
-        if self._material_problems(context):
+        if self._refused(context):
             return {"CANCELLED"}
         try:
             result = bake_exposure(context, list(context.selected_objects), self._settings(context),
@@ -73,7 +82,7 @@ selected, every mesh whose material has LightFade enabled).  Esc cancels"""
     def invoke(self, context, event):
         if context.window is None or bpy.app.background:
             return self.execute(context)
-        if self._material_problems(context):
+        if self._refused(context):
             return {"CANCELLED"}
         wm = context.window_manager
         self._job = ExposureBake(context, list(context.selected_objects), self._settings(context),
