@@ -175,6 +175,15 @@ class MATERIAL_PT_lightfade(bpy.types.Panel):
             layout.label(text=f"Just-noticeable fade after ~{dose:.3g} Mlx·h of UV-free light")
         else:
             layout.prop(props, "beta")
+        layout.prop(props, "already_years")
+        if props.already_years > 0:
+            col = layout.column(align=True)
+            col.prop(props, "already_spectrum")
+            col.prop(props, "already_lux")
+            col.prop(props, "already_hours_per_day")
+            col.prop(props, "already_uv_filter")
+            col.label(text="Years 0 shows it new; the slider ages it with the scene's light",
+                      icon="INFO")
         obj = context.object
         if obj is None or obj.type != "MESH":
             return
@@ -183,6 +192,9 @@ class MATERIAL_PT_lightfade(bpy.types.Panel):
         if copy is not None:
             box.label(text=f"{obj.name}: {copy.lightfade.path.lower()} — {copy.lightfade.reason}")
             box.label(text=copy_status(context.scene, copy))
+            if copy.lightfade.lost_texels:
+                box.label(text=f"{copy.lightfade.lost_texels} texels faded past recovery: their "
+                          "colour when new is a best guess", icon="ERROR")
             return
         plan = material_plan(context.scene, obj, material)
         box.label(text=f"{obj.name}: {plan.path.lower()} — {plan.reason or 'not checked'}")

@@ -39,6 +39,7 @@ from bpy.types import PropertyGroup
 
 from .vocabulary import (  # noqa: F401  (re-exported: the names scripts know)
     AUTO_SPECTRUM,
+    PRIOR_SPECTRUM_ITEMS,
     EMITTER_KIND_ITEMS,
     RECIPE_BLUE_WOOL,
     RECIPE_IDS,
@@ -158,6 +159,41 @@ class LIGHTFADE_PG_material(PropertyGroup):
         soft_max=1000.0,
         precision=3,
     )
+    # -- the texture's own history (issue 14): a photograph of something already faded
+    already_years: FloatProperty(
+        name="Already Aged",
+        description="The texture shows the material after this many years under the light "
+        "below (0: it is new). Age first estimates the colours when new (the years slider's 0), "
+        "then ages them with the scene's light",
+        default=0.0,
+        min=0.0,
+        soft_max=200.0,
+    )
+    already_spectrum: EnumProperty(
+        name="Under",
+        description="The light the texture has already aged under",
+        items=PRIOR_SPECTRUM_ITEMS,
+        default="DAYLIGHT_GLASS",
+    )
+    already_uv_filter: BoolProperty(
+        name="UV Filter",
+        description="That light passed a UV-blocking filter",
+        default=False,
+    )
+    already_lux: FloatProperty(
+        name="Illuminance",
+        description="Illuminance on the material while that light was on, in lux",
+        default=150.0,
+        min=0.0,
+        soft_max=20000.0,
+    )
+    already_hours_per_day: FloatProperty(
+        name="Hours per Day",
+        description="Hours per day that light was on",
+        default=8.0,
+        min=0.0,
+        max=24.0,
+    )
     # -- written by Age on the object's aged copy of a material (read by Reset, the
     # -- handlers and the panels); the original material keeps none of this
     source: PointerProperty(
@@ -215,6 +251,13 @@ class LIGHTFADE_PG_material(PropertyGroup):
         name="Prepared Years",
         description="Years the stored grid's dose axis covers (beyond: computed in memory, never stored)",
         default=100.0,
+    )
+    lost_texels: IntProperty(
+        name="Lost Texels",
+        description="Texels whose colour when new cannot be recovered (the texture's own "
+        "history faded it past recovery)",
+        default=0,
+        min=0,
     )
     grid_key: StringProperty(
         name="Grid",

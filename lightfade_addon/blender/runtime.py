@@ -20,13 +20,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core.aging import TextureAger
+from ..core.aging import Light, TextureAger
 from ..core.recipes import get_recipe
+from ..core.restore import Prior
 from .errors import AgingError
 from .exposure import exposure_signature, lights_and_exposure
 from .grids import SceneGridStore
 from .pixels import read_linear, read_rgba
-from .vocabulary import RECIPE_IDS
+from .vocabulary import RECIPE_IDS, SPECTRUM_IDS
 
 #: Smallest prepared range: the slider's soft maximum.
 MIN_PREPARED_YEARS = 100.0
@@ -84,6 +85,20 @@ def material_recipe(material):
     return recipe.with_blue_wool(props.blue_wool)
 
 
+def material_prior(material):
+    """The texture's own history (:class:`..core.restore.Prior`), or None when it is new.
+
+    ``already_years`` under one light: its spectrum, UV filter, lux and hours per day,
+    every day of the year (the texture's lux is taken as uniform).
+    """
+    s = material.lightfade
+    if not s.already_years > 0:
+        return None
+    light = Light(SPECTRUM_IDS[s.already_spectrum], s.already_uv_filter, s.already_lux,
+                  s.already_hours_per_day, 365.0)
+    return Prior(float(s.already_years), (light,))
+
+
 def signature(scene, copy):
     """Digest of everything a copy's aged pixels depend on besides the years.
 
@@ -99,7 +114,7 @@ def signature(scene, copy):
     s = source.lightfade
     albedo = props.albedo
     parts = [exposure_signature(scene, obj), s.recipe, s.sensitivity_mode, str(s.blue_wool),
-             repr(s.beta), props.path, props.uv_map,
+             repr(s.beta), repr(material_prior(source)), props.path, props.uv_map,
              albedo.name if albedo is not None else repr(tuple(props.flat_colour)),
              str(tuple(albedo.size)) if albedo is not None else ""]
     return hashlib.sha1("|".join(parts).encode()).hexdigest()
@@ -136,16 +151,20 @@ def prepare(scene, copy, shape, progress=None):
     rgba = albedo_rgba(copy, shape)
     lights, exposure = lights_and_exposure(scene, obj, rgba.shape[:2])
     recipe = material_recipe(props.source)
+    prior = material_prior(props.source)
     rgb = rgba[..., :3]
     try:
         ager = TextureAger(rgb, recipe, lights, exposure, max_years=props.max_years,
-                           encoding="linear", progress=progress, store=SceneGridStore(scene))
+                           encoding="linear", progress=progress, store=SceneGridStore(scene),
+                           prior=prior)
     except ValueError as err:
         raise AgingError(f"Material '{props.source.name}' on '{obj.name}': {err}") from None
     props.grid_key = ager.grid.key
+    props.lost_texels = 0 if ager.lost is None else int(np.count_nonzero(ager.lost))
     buffer = np.empty((rgb.shape[0] * rgb.shape[1], 4), dtype=np.float32)
     buffer[:, 3] = rgba[..., 3].reshape(-1)
-    state = Prepared(ager, props.aged_image.as_pointer(), buffer, (rgb, recipe, lights, exposure))
+    state = Prepared(ager, props.aged_image.as_pointer(), buffer,
+                     (rgb, recipe, lights, exposure, prior))
     _STATES[copy.session_uid] = state
     return state
 
@@ -159,8 +178,8 @@ def far_ager(state, years):
     max_years = prepared_range(years)
     if state.far and state.far[0].max_years == max_years:
         return state.far[0]
-    rgb, recipe, lights, exposure = state.inputs
+    rgb, recipe, lights, exposure, prior = state.inputs
     far = TextureAger(rgb, recipe, lights, exposure, max_years=max_years, encoding="linear",
-                      store=None)
+                      store=None, prior=prior)
     state.far[:] = [far]
     return far

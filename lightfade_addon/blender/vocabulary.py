@@ -41,6 +41,9 @@ SPECTRUM_ITEMS = (
     *((key, _label(name), _spectra.LIGHTS[name]) for key, name in SPECTRUM_IDS.items()),
 )
 
+#: The spectra a texture's own history can name (no AUTO: there is no emitter to ask).
+PRIOR_SPECTRUM_ITEMS = tuple(item for item in SPECTRUM_ITEMS if item[0] != "AUTO")
+
 EMITTER_KIND_ITEMS = (
     ("SUN", "Sun", "A sun lamp"),
     ("POINT", "Point", "A point lamp"),

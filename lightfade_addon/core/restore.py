@@ -19,7 +19,9 @@ colour and the information is destroyed: the restoration would amplify a small
 uncertainty in the seen colour into a large one in the original. Such pixels are
 reported in ``lost``: the norm of ``d Lab_original / d Lab_seen`` exceeds
 :data:`AMPLIFICATION_LIMIT` (an error in the seen colour would triple).
-So are pixels whose seen colour has a channel at the edge of [0, 1] (it may have
+So are pixels no original explains: where the fixed point is not reached (the
+mismatch stays above :data:`RESIDUAL_LIMIT`, ΔE*ab), no new colour of the recipe
+fades to the seen one under that light. So are pixels whose seen colour has a channel at the edge of [0, 1] (it may have
 been clipped there, by the camera or by the gamut mapping of :mod:`.gamut`). Lost
 pixels keep the least-squares estimate.
 """
@@ -42,11 +44,14 @@ from .spectra import WAVELENGTHS, light_spectrum
 from .texels import UNMIX_REFINE, texel_concentrations
 from .unmix import bounded_gauss_newton, get_unmixer, jacobian, pseudo_inverse
 
-__all__ = ["AMPLIFICATION_LIMIT", "Prior", "Restored", "restore"]
+__all__ = ["AMPLIFICATION_LIMIT", "RESIDUAL_LIMIT", "Prior", "Restored", "restore"]
 
 #: Largest gain from an error in the seen colour to one in the restored colour
 #: (ΔE*ab per ΔE*ab) for a pixel's information to count as surviving.
 AMPLIFICATION_LIMIT = 3.0
+#: Largest remaining mismatch (ΔE*ab) between a restored colour and the fixed point
+#: for the pixel to count as explained by the model.
+RESIDUAL_LIMIT = 2.0
 #: Linear channel values this close to 0 or 1 count as clipped at the range's edge.
 _EDGE = 1e-4
 #: Gauss–Newton iterations of the inversion.
@@ -223,6 +228,8 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
                                           pseudo_inverse(jacobian(aged_Lab, c0))),
                                 ord=2, axis=(1, 2))
         gain_g[dose_g <= 0] = 0.0
+        unexplained = np.linalg.norm(mismatch(c0), axis=-1) > RESIDUAL_LIMIT
+        gain_g[unexplained & (dose_g > 0)] = np.inf
         gain = gain_g[group].reshape(gain.shape)
     # a seen colour on the edge of the range may have been clipped there: its
     # original is not known either

@@ -309,3 +309,39 @@ class TestLights:
         api.age_scene(scene, years=0.3)
         filtered = np.median(dE(aged(carpet["material"]), original))
         assert 1 < filtered < bare - 0.1            # UV drives part of the fading
+
+
+class TestAlreadyOld:
+    """A texture that is already N years old (issue 14): years 0 shows it new."""
+
+    def test_years_zero_shows_the_texture_new_and_history_changes_mark_stale(self, carpet):
+        from lightfade_addon import api
+
+        scene = bpy.context.scene
+        mat = carpet["material"]
+        api.age_scene(scene, years=0)
+        photo = aged(mat).copy()                       # no history: the texture as it is
+        mat.lightfade.already_years = 10.0
+        mat.lightfade.already_lux = 300.0
+        assert api.material_plan(scene)[0]["status"].startswith("stale")
+        api.age_scene(scene, years=0)
+        new = aged(mat).copy()
+        assert np.median(dE(new, photo)) > 1.0
+        assert np.isfinite(new).all() and new.min() >= 0.0 and new.max() <= 1.0
+        # the texture's own history, replayed on the estimate, gives the photograph back
+        from lightfade_addon.blender.runtime import material_prior, material_recipe
+        from lightfade_addon.core.aging import TextureAger
+
+        prior = material_prior(mat)
+        replay = TextureAger(new[..., :3], material_recipe(mat), list(prior.lights), None,
+                             max_years=20, encoding="linear").age(prior.years)
+        copy = next(m for m in bpy.data.materials if m.lightfade.source == mat)
+        assert copy.lightfade.lost_texels == 0
+        assert np.percentile(dE(replay, photo), 90) < 1.0
+        mat.lightfade.already_lux = 5000.0            # no new colour fades to this one
+        api.age_scene(scene, years=0)
+        copy = next(m for m in bpy.data.materials if m.lightfade.source == mat)
+        assert copy.lightfade.lost_texels == 64 * 64
+        mat.lightfade.already_years = 0.0
+        api.age_scene(scene, years=0)
+        np.testing.assert_allclose(aged(mat), photo, atol=1e-6)
