@@ -14,12 +14,11 @@ by :class:`Restore`, also on error.
 from __future__ import annotations
 
 import contextlib
-import os
-import sys
 
 import bpy
 import numpy as np
 
+from .bake.state import quiet_stdout
 from .errors import AgingError
 from .pixels import read_rgba
 from .source import tree_at
@@ -56,23 +55,6 @@ class Restore(contextlib.AbstractContextManager):
         if errors and exc_type is None:
             raise errors[0]
         return False
-
-
-@contextlib.contextmanager
-def quiet_stdout():
-    """Silence stdout at the file-descriptor level: Cycles reports "Baking map saved to
-    internal image, save it externally or pack it" on every bake (LightFade packs it)."""
-    sys.stdout.flush()
-    saved = os.dup(1)
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 1)
-        yield
-    finally:
-        sys.stdout.flush()
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(devnull)
 
 
 def albedo_image(copy, shape):
