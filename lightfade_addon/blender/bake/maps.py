@@ -12,6 +12,7 @@ import bpy
 import numpy as np
 
 from ...core.aging import Light
+from ..pixels import resample
 from ..vocabulary import resolve_spectrum
 from .common import EXPOSURE_PREFIX, LightFadeBakeError, exposure_image_name
 from .emitters import schedule_key, schedule_of
@@ -119,23 +120,6 @@ def read_lux(image):
     buf = np.empty(w * h * image.channels, dtype=np.float32)
     image.pixels.foreach_get(buf)
     return buf.reshape(h, w, image.channels)[..., 0].astype(np.float64)
-
-
-def resample(a, shape):
-    """Bilinear resampling of an (h, w) map to ``shape`` in UV space (texel centres)."""
-    h, w = a.shape
-    H, W = shape
-    if (h, w) == (H, W):
-        return a
-    y = np.clip((np.arange(H) + 0.5) * h / H - 0.5, 0, h - 1)
-    x = np.clip((np.arange(W) + 0.5) * w / W - 0.5, 0, w - 1)
-    y0 = np.minimum(y.astype(int), max(h - 2, 0))
-    x0 = np.minimum(x.astype(int), max(w - 2, 0))
-    fy, fx = (y - y0)[:, None], (x - x0)[None, :]
-    y1, x1 = np.minimum(y0 + 1, h - 1), np.minimum(x0 + 1, w - 1)
-    top = a[y0][:, x0] * (1 - fx) + a[y0][:, x1] * fx
-    bottom = a[y1][:, x0] * (1 - fx) + a[y1][:, x1] * fx
-    return top * (1 - fy) + bottom * fy
 
 
 def lights_and_exposure(scene, obj, shape):
