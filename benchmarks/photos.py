@@ -12,8 +12,9 @@ bands of exposure across each image (0.1 %, 1 %, 3 %, 10 %, 30 % and 100 % of th
 full light, as shadows give inside one texture), and the written sRGB images are
 compared: max and 99th-percentile CIEDE2000 per case.
 Photographs: saturated primaries (a hue sweep at full saturation, magentas and
-purples included), skin, foliage, greys, a landscape, and one with more than 65,536
-distinct colours (float values, noise), which takes the binned path.
+purples included), skin, foliage, greys, a landscape, and two with more distinct
+colours than an aging table has keys (float values with noise, 74,000 colours; 8-bit
+values with broad noise, 173,000 colours), which take the binned path.
 """
 
 from __future__ import annotations
@@ -88,6 +89,15 @@ def many_colours(n=320):
     return np.clip(img + rng.normal(0, 0.03, img.shape), 0, 1).astype(np.float32)
 
 
+def many_colours_8bit(n=420):
+    """8-bit values, broad noise: more distinct colours (about 170,000) than keys."""
+    rng = np.random.default_rng(7)
+    y, x = np.mgrid[0:n, 0:n] / n
+    img = np.stack([0.5 + 0.45 * np.sin(6 * x + 2 * y), 0.5 + 0.45 * np.cos(5 * y + x),
+                    0.5 + 0.45 * np.sin(3 * x * y + 4 * y)], -1)
+    return _quantised(img + rng.normal(0, 0.06, img.shape))
+
+
 PHOTOS = {"primaries": primaries, "skin": skin, "foliage": foliage, "greys": greys,
           "landscape": landscape}
 
@@ -145,6 +155,7 @@ def main(argv=None):
         photos = dict(PHOTOS)
         if (recipe, spectrum) == ("printed-paper", "daylight-glass"):
             photos["many-colours"] = (lambda: many_colours(272)) if args.quick else many_colours
+            photos["many-colours-8bit"] = many_colours_8bit
         for pname, make in photos.items():
             mx, p99, colours = compare(make(), recipe, light)
             worst = max(worst, mx)

@@ -151,18 +151,14 @@ class TextureAger:
         say(0.85, f"change curves for {c.shape[0]} colours")
         curves = self.grid.curves(c, log_initial(self.grid, unmixer, c))     # (U, M, T, 3)
         U, M, T, _ = curves.shape
-        # Planar table over (colour, mix node, dose interval): the change at the
-        # interval's start and its increment, so a texel needs a + f * d.
-        start = curves[:, :, :-1].reshape(-1, 3)
-        step = (curves[:, :, 1:] - curves[:, :, :-1]).reshape(-1, 3)
-        # one 24-byte row (start xyz, step xyz) per entry: a texel's six values share a
-        # cache line, and a single gather of a 'void24' view fetches them together
-        self._rows = np.ascontiguousarray(np.concatenate([start, step], axis=1),
-                                          dtype=np.float32)                       # (K, 6)
-        self._rows_void = self._rows.view(np.dtype((np.void, 24))).ravel()
-        del curves, start, step
+        # Planar table over (colour, mix node, dose node): a texel at fractional position
+        # i + f needs the values at nodes i and i + 1, 24 adjacent bytes: two gathers of
+        # a 'void12' view, the second from the cache line the first brought in.
+        self._values = np.ascontiguousarray(curves.reshape(-1, 3), dtype=np.float32)
+        self._nodes = self._values.view(np.dtype((np.void, 12))).ravel()
+        del curves
         self._T = T
-        key *= M * (T - 1)
+        key *= M * T
         if len(keys) == 1:
             self._offsets = key[None]
             self._weights = None
@@ -175,7 +171,7 @@ class TextureAger:
                 mix = np.where(total > 0, rates[:, s0:s1] / np.maximum(total, 1e-30), np.float32(0.0)).T
                 mix[total <= 0, 0] = 1.0
                 nodes, weights = simplex_interpolation(mix, self.grid.q)
-                self._offsets[:, s0:s1] = key[s0:s1] + nodes.T * (T - 1)
+                self._offsets[:, s0:s1] = key[s0:s1] + nodes.T * T
                 self._weights[:, s0:s1] = weights.T
         del rates, key
         # s = sigma * years**(1/DOSE_POWER) is the texel's fractional position on the dose axis
@@ -218,10 +214,13 @@ class TextureAger:
         acc = None if self._weights is None else np.zeros((3, k), dtype=np.float32)
         for v in range(self._offsets.shape[0]):
             np.add(self._offsets[v, s0:s1], i, out=idx)
-            rows = np.take(self._rows_void, idx).view(np.float32).reshape(k, 6)
-            for ch in range(3):
-                np.multiply(rows[:, ch + 3], f, out=tmp)
-                np.add(tmp, rows[:, ch], out=out[ch])
+            lo = np.take(self._nodes, idx).view(np.float32).reshape(k, 3)
+            idx += 1
+            hi = np.take(self._nodes, idx).view(np.float32).reshape(k, 3)
+            for ch in range(3):                       # v_i + f (v_i+1 - v_i)
+                np.subtract(hi[:, ch], lo[:, ch], out=tmp)
+                tmp *= f
+                np.add(tmp, lo[:, ch], out=out[ch])
             if acc is not None:
                 out *= self._weights[v, s0:s1]
                 acc += out

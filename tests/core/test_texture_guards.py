@@ -64,7 +64,7 @@ def test_more_than_max_keys_colours_stay_close_to_the_exact_path(image, monkeypa
     binned = TextureAger(image, "printed-paper", [light], encoding="srgb", max_years=5).age(5)
     exact = age_image_exact(image, [5.0], "printed-paper", light)[0]
     err = delta_E_2000(lab(binned), lab(exact))
-    assert err.max() < 2.0 and np.percentile(err, 90) < 0.5
+    assert err.max() < 1.0 and np.percentile(err, 90) < 0.3
     assert delta_E_2000(lab(image), lab(exact)).mean() > 3   # a real fade
 
 
