@@ -257,16 +257,19 @@ class ExposureBake:
         return self.done < len(self.steps)
 
     def _finish_map(self, obj, image):
-        """Denoise, take the luminance, scale to lux: RGB = lux, A = 1."""
+        """Denoise (keeping the raw bake's local mean), take the luminance, scale to
+        lux: RGB = lux, A = 1."""
         n = image.size[0]
         px = np.empty(n * n * 4, dtype=np.float32)
         image.pixels.foreach_get(px)
         px = px.reshape(n, n, 4)
         rgb = px[..., :3]
+        Y = luminance(rgb)
         if self.settings.denoise:
-            guide = _denoise.island_colours(self.islands[obj.name])
-            rgb = _denoise.guard(_denoise.denoise(rgb, guide), rgb)
-        lux = np.maximum(luminance(rgb), 0.0) * LUX_PER_BAKE_UNIT
+            labels = self.islands[obj.name]
+            denoised = _denoise.guard(_denoise.denoise(rgb, _denoise.island_colours(labels)), rgb)
+            Y = _denoise.preserve_mean(luminance(denoised), Y, labels >= 0)
+        lux = np.maximum(Y, 0.0) * LUX_PER_BAKE_UNIT
         px[..., :3] = lux[..., None]
         px[..., 3] = 1.0
         image.pixels.foreach_set(px.ravel())

@@ -1,0 +1,78 @@
+"""Denoising exposure maps: OIDN through the compositor, the guard, the mean kept."""
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+
+@pytest.fixture
+def dn(blender):
+    from lightfade_addon.blender.bake import denoise
+
+    return denoise
+
+
+def shadow_scene(n=192, seed=0):
+    """Raw bake of a lit half (x < n/2, irradiance 1, 2 % noise) and a shadow half that
+    only rare bright paths reach (mean 0.02: one texel in 25 carries 0.5)."""
+    rng = np.random.default_rng(seed)
+    truth = np.where(np.arange(n)[None, :] < n // 2, 1.0, 0.02) * np.ones((n, 1))
+    raw = np.where(truth > 0.5, 1.0 + 0.02 * rng.standard_normal((n, n)),
+                   0.5 * (rng.random((n, n)) < 0.04))
+    return truth, raw
+
+
+def test_preserve_mean_undoes_a_shadow_bias_and_keeps_the_edge(dn):
+    truth, raw = shadow_scene()
+    denoised = truth * np.where(truth < 0.5, 0.9, 1.0)        # OIDN's 10 % low in the shadow
+    out = dn.preserve_mean(denoised, raw, np.ones(truth.shape, bool), radius=32)
+    n = truth.shape[0]
+    shadow, lit = out[:, n // 2 + 4:], out[:, :n // 2 - 4]
+    assert abs(shadow.mean() / raw[:, n // 2 + 4:].mean() - 1) < 0.02   # the raw mean, kept
+    assert abs(lit.mean() - 1) < 0.005
+    # the edge stays a step: the texels either side keep their side's level
+    assert np.all(out[:, n // 2 - 1] > 0.9) and np.all(out[:, n // 2] < 0.03)
+    # a smooth factor: it adds little noise to the shadow
+    assert shadow.std() / shadow.mean() < 0.1
+
+
+def test_preserve_mean_leaves_an_unbiased_map_and_the_outside_alone(dn):
+    truth, raw = shadow_scene(seed=1)
+    inside = np.ones(truth.shape, bool)
+    inside[:, -16:] = False                                    # beyond the UV islands
+    denoised = truth.copy()
+    denoised[:, -16:] = 7.0
+    out = dn.preserve_mean(denoised, raw, inside, radius=32)
+    n = truth.shape[0]
+    assert abs(out[:, n // 2 + 4:-16].mean() / raw[:, n // 2 + 4:-16].mean() - 1) < 0.02
+    assert np.all(out[:, -16:] == 7.0)
+    assert np.all(dn.preserve_mean(np.zeros_like(truth), raw, inside) == 0)
+
+
+def test_guard_darkens_a_contact_shadow_but_not_a_bounce_lit_one(dn):
+    n = 64
+    raw = np.ones((n, n, 3))
+    raw[20:44, 20:44] = 0.0                                    # under a box: no path at all
+    raw[:, 52:] = 0.0
+    raw[::5, 52::5] = 0.3                                      # sparse bounce light
+    bled = np.full((n, n, 3), 0.05)
+    out = dn.guard(bled, raw)
+    assert np.all(out[25:39, 25:39] == 0)                      # > 4 texels from light: dark
+    assert np.all(out[:, 54:] == 0.05)                         # a path within 4 texels: kept
+
+
+def test_oidn_smooths_noise_and_keeps_seams_between_islands(dn):
+    rng = np.random.default_rng(3)
+    n = 64
+    labels = np.zeros((n, n), int)
+    labels[:, n // 2:] = 1                                     # two islands side by side
+    level = np.where(labels == 0, 1.0, 0.25)
+    noisy = (level * rng.exponential(1.0, (n, n)))[..., None].repeat(3, -1).astype(np.float32)
+    out = dn.denoise(noisy, dn.island_colours(labels))[..., 0]
+    left, right = out[:, 4:n // 2 - 4], out[:, n // 2 + 4:-4]
+    assert left.std() / left.mean() < 0.5 * noisy[:, 4:n // 2 - 4, 0].std()
+    assert abs(left.mean() - 1.0) < 0.15 and abs(right.mean() - 0.25) < 0.05
+    # bleed across the seam stays within the texel either side of it
+    assert abs(out[:, n // 2 + 1].mean() / right.mean() - 1) < 0.15
+    assert abs(out[:, n // 2 - 2].mean() / left.mean() - 1) < 0.15
