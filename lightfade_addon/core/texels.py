@@ -30,7 +30,7 @@ __all__ = ["MAX_KEYS", "UNMIX_BUDGET", "UNMIX_REFINE", "texel_concentrations"]
 #: Most keys (rows of the aging table) per texture: 131,072 keys of one light
 #: spectrum and 65 dose nodes take 102 MB (:class:`.aging.TextureAger`).
 MAX_KEYS = 1 << 17
-#: Most colours unmixed exactly per texture (about 20 s on one core for this many);
+#: Most colours unmixed exactly per texture (about 10 s on one core for this many);
 #: more take a linear step from a bin's solution (:func:`_linearised`).
 UNMIX_BUDGET = 1 << 18
 #: Colours unmixed per call (bounds the solver's (n, wavelengths) temporaries).

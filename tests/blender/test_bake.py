@@ -528,6 +528,39 @@ class TestProgressAndCancel:
         for m in maps:
             np.testing.assert_array_equal(lf.pixels(m.image), old[m.name])
 
+    def test_esc_in_the_modal_bake_restores_everything_and_stores_nothing(self, floor_scene, lf):
+        """The operator's modal path (the UI's): a timer tick bakes one group, Esc then
+        cancels. There is no window here, so the operator's Blender calls go to a stand-in
+        window manager; the bake itself is real."""
+        from types import SimpleNamespace
+
+        from lightfade_addon.blender.bake import ExposureBake
+        from lightfade_addon.blender.operators.bake_exposure import LIGHTFADE_OT_bake_exposure as Op
+
+        lf.add_point()
+        floor = floor_scene["floor"]
+        before = snapshot()
+        reports, calls = [], []
+        wm = SimpleNamespace(event_timer_remove=lambda t: calls.append("timer off"),
+                             progress_end=lambda: calls.append("progress end"))
+        context = SimpleNamespace(window_manager=wm, workspace=SimpleNamespace(
+            status_text_set=lambda text: calls.append(("status", text))))
+        op = SimpleNamespace(_cancel=False, _timer=object(),
+                             report=lambda level, msg: reports.append((level, msg)))
+        for name in ("_finish", "_end"):
+            setattr(op, name, getattr(Op, name).__get__(op))
+        op._job = ExposureBake(bpy.context, [floor], SMALL, report=lambda m: None,
+                               progress=lambda f, m: None).plan()
+        op._job.__enter__()
+        assert Op.modal(op, context, SimpleNamespace(type="TIMER")) == {"RUNNING_MODAL"}
+        assert op._job.done == 1                      # one of the two groups baked
+        assert Op.modal(op, context, SimpleNamespace(type="ESC")) == {"CANCELLED"}
+        assert reports == [({"WARNING"}, "Bake cancelled: nothing was changed")]
+        assert calls == ["timer off", "progress end", ("status", None)]
+        assert snapshot() == before
+        assert len(floor.lightfade.exposure_maps) == 0
+        assert not [i for i in bpy.data.images if i.name.startswith("LF_")]
+
     def test_headless_one_progress_line_per_bake_and_quiet(self, floor_scene, lf, capfd):
         lf.add_point()
         bake_exposure(bpy.context.scene, [floor_scene["floor"], floor_scene["box"]], SMALL)

@@ -5,7 +5,7 @@ Blender bundles OIDN; its compositor Denoise node runs headless (``bpy`` module 
 put through a compositor tree in a temporary scene::
 
     Image (baked, HDR) ─┐
-    Image (island ids) ─┴─ Denoise (HDR, prefilter None) ─ output
+    Image (island ids) ─┴─ Denoise (HDR, prefilter None, quality Fast) ─ output
 
 and the result is read back from a temporary EXR.  Where no sample of a small window
 found any light (a contact shadow, a closed corner), the denoiser must not invent some:
@@ -194,7 +194,7 @@ def denoise(rgb, guide=None):
             node = tree.nodes.new("CompositorNodeDenoise")
             _set(node, "HDR", True, "use_hdr", True)
             _set(node, "Prefilter", "None", "prefilter", "NONE")
-            _set(node, "Quality", "Balanced", "quality", "BALANCED")
+            _set(node, "Quality", "Fast", "quality", "FAST")
             tree.links.new(source.outputs["Image"], node.inputs["Image"])
             if guide is not None:
                 albedo = tree.nodes.new("CompositorNodeImage")
