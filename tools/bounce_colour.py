@@ -23,6 +23,8 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from figures import pyplot, save  # noqa: E402  (tools/figures.py)
+
 from lightfade_addon.core.colorimetry import delta_E_2000, reflectance_to_Lab  # noqa: E402
 from lightfade_addon.core.recipes import get_recipe  # noqa: E402
 from lightfade_addon.core.spectra import WAVELENGTHS, illuminance, light_spectrum, resample  # noqa: E402
@@ -70,11 +72,7 @@ def table():
 
 
 def main():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     rows = table()
     print("| recipe | colourant | straight daylight ΔE00 | " +
           " | ".join(f"off {s}" for s in SURFACES) + " |")
@@ -94,10 +92,7 @@ def main():
     ax.set_ylabel("fade ÷ fade under straight daylight")
     ax.set_title("Same lux·h, light bounced off a coloured surface: what luminance-only doses leave out")
     ax.legend(fontsize=8, ncol=4)
-    fig.tight_layout()
-    path = ROOT / "docs" / "img" / "bounce_colour.png"
-    fig.savefig(path, dpi=110)
-    print(f"wrote {path.relative_to(ROOT)}")
+    save(fig, "bounce_colour.png")
 
 
 if __name__ == "__main__":

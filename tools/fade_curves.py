@@ -19,6 +19,8 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from figures import pyplot, save  # noqa: E402  (tools/figures.py)
+
 from lightfade_addon.core.colorimetry import delta_E_2000, reflectance_to_Lab  # noqa: E402
 from lightfade_addon.core.recipes import get_recipe  # noqa: E402
 from lightfade_addon.core.spectra import WAVELENGTHS, light_spectrum  # noqa: E402
@@ -41,11 +43,7 @@ def curves(kinetics, level):
 
 
 def main():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
     for kinetics, style in (("first-order", "-"), ("paper", "--")):
         for (name, level), colour in zip(SHADES.items(), ("tab:purple", "tab:pink")):
@@ -58,10 +56,7 @@ def main():
     axes[1].set(xlabel="dose (Mlx·h, window daylight)", ylabel="dye left (mean over depth)",
                 title="Magenta on paper: dye left", ylim=(0, 1.02))
     axes[1].legend(fontsize=8)
-    fig.tight_layout()
-    out = ROOT / "docs" / "img" / "fade_curves.png"
-    fig.savefig(out, dpi=110)
-    print(f"wrote {out.relative_to(ROOT)}")
+    save(fig, "fade_curves.png")
 
 
 if __name__ == "__main__":
