@@ -8,12 +8,11 @@ Blender's own bakers do, the socket is routed into an Emission shader on the mat
 output for the bake and the EMIT pass is baked (a DIFFUSE colour pass is not the raw
 Base Color where Metallic or Transmission are non-zero).  Everything the bake changes
 (the copies' trees, the other slots, render and bake settings, selection) is put back
-by :class:`Restore`, also on error.
+by :class:`.undo.Undo`, also on error.
 """
 
 from __future__ import annotations
 
-import contextlib
 
 import bpy
 import numpy as np
@@ -22,39 +21,11 @@ from .bake.state import quiet_stdout
 from .errors import AgingError
 from .pixels import read_rgba
 from .source import tree_at
+from .undo import Undo
 
 ALBEDO_PREFIX = "LF_Albedo_"
 _TMP = "LF_TMP_"
 _EXPOSED = "LightFade Base Color"
-
-
-class Restore(contextlib.AbstractContextManager):
-    """Undo steps run in reverse on exit (normal or error); every step is attempted."""
-
-    def __init__(self):
-        self._undo = []
-
-    def push(self, fn):
-        self._undo.append(fn)
-
-    def set(self, struct, name, value):
-        """``setattr(struct, name, value)``, remembering the old value."""
-        old = getattr(struct, name)
-        if old != value:
-            setattr(struct, name, value)
-            self.push(lambda: setattr(struct, name, old))
-
-    def __exit__(self, exc_type, exc, tb):
-        errors = []
-        for fn in reversed(self._undo):
-            try:
-                fn()
-            except Exception as err:  # noqa: BLE001 (keep restoring the rest)
-                errors.append(err)
-        self._undo.clear()
-        if errors and exc_type is None:
-            raise errors[0]
-        return False
 
 
 def albedo_image(copy, shape):
@@ -189,7 +160,7 @@ def bake_albedos(scene, view_layer, obj, jobs, uv_map, margin=2):
     linear RGB}``.  Raises AgingError if Cycles fails (everything is restored first).
     """
     copies = {job[0] for job in jobs}
-    with Restore() as restore:
+    with Undo() as restore:
         for copy, colour, image in jobs:
             _prepare_copy(restore, copy, colour, image)
         for slot in obj.material_slots:

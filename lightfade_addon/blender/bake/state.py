@@ -15,6 +15,7 @@ import sys
 
 import bpy
 
+from ..undo import Undo
 from .common import TEMP_PREFIX
 
 
@@ -36,7 +37,7 @@ _CYCLES_KEYS = ("device", "samples", "use_adaptive_sampling", "use_denoising", "
                 "time_limit", "seed", "use_animated_seed")
 
 
-class BakeState(contextlib.AbstractContextManager):
+class BakeState(Undo):
     """Record-and-restore scope of one bake.
 
     Covers render engine, Cycles and bake settings, the world, the view layer's material
@@ -45,23 +46,11 @@ class BakeState(contextlib.AbstractContextManager):
     """
 
     def __init__(self, scene, view_layer):
+        super().__init__()
         self.scene = scene
         self.view_layer = view_layer
-        self._undo = []
         self.temp_materials = []
         self.temp_images = []
-
-    def push(self, fn):
-        """Run ``fn()`` on exit (in reverse order of pushing)."""
-        self._undo.append(fn)
-
-    def set(self, struct, name, value):
-        """``setattr(struct, name, value)``, remembering the old value."""
-        old = getattr(struct, name)
-        if old == value:
-            return
-        setattr(struct, name, value)
-        self.push(lambda: setattr(struct, name, old))
 
     def new_image(self, name, width, height=None):
         """A temporary float image holding data (no view transform), removed on exit."""
@@ -105,13 +94,7 @@ class BakeState(contextlib.AbstractContextManager):
         return self
 
     def __exit__(self, exc_type, exc, tb):
-        errors = []
-        for fn in reversed(self._undo):
-            try:
-                fn()
-            except Exception as err:  # noqa: BLE001 (keep restoring the rest)
-                errors.append(err)
-        self._undo.clear()
+        errors = self.unwind()
         for mat in self.temp_materials:
             with contextlib.suppress(ReferenceError):
                 bpy.data.materials.remove(mat)
