@@ -55,6 +55,24 @@ def _on_recipe_changed(self, context):
     self.blue_wool = RECIPE_BLUE_WOOL.get(self.recipe, 3)
 
 
+# ----------------------------------------------------------------- a light's schedule
+# The same properties describe a light now (an emitter's schedule) and a light the texture
+# has already aged under (``Material.lightfade.already_*``).
+
+
+def _spectrum(description, items, default, name="Spectrum"):
+    return EnumProperty(name=name, description=description, items=items, default=default)
+
+
+def _uv_filter(description):
+    return BoolProperty(name="UV Filter", description=description, default=False)
+
+
+def _hours_per_day(description):
+    return FloatProperty(name="Hours per Day", description=description, default=8.0,
+                         min=0.0, max=24.0, precision=1)
+
+
 # --------------------------------------------------------------------------- groups
 
 
@@ -66,25 +84,11 @@ class LIGHTFADE_PG_schedule(PropertyGroup):
         description="Bake an exposure map for this emitter and count its light when aging",
         default=True,
     )
-    spectrum: EnumProperty(
-        name="Spectrum",
-        description="Spectral power distribution of this emitter's light (UV content drives much of the fading)",
-        items=SPECTRUM_ITEMS,
-        default="AUTO",
-    )
-    uv_filter: BoolProperty(
-        name="UV Filter",
-        description="A UV-blocking filter or film cuts this emitter's light below 400 nm",
-        default=False,
-    )
-    hours_per_day: FloatProperty(
-        name="Hours per Day",
-        description="Hours per day this emitter is on (for the sun: hours of direct sun on the scene)",
-        default=8.0,
-        min=0.0,
-        max=24.0,
-        precision=1,
-    )
+    spectrum: _spectrum("Spectral power distribution of this emitter's light (UV content "
+                        "drives much of the fading)", SPECTRUM_ITEMS, "AUTO")
+    uv_filter: _uv_filter("A UV-blocking filter or film cuts this emitter's light below 400 nm")
+    hours_per_day: _hours_per_day("Hours per day this emitter is on (for the sun: hours of "
+                                  "direct sun on the scene)")
     days_per_year: FloatProperty(
         name="Days per Year",
         description="Days per year this emitter is on",
@@ -169,17 +173,9 @@ class LIGHTFADE_PG_material(PropertyGroup):
         min=0.0,
         soft_max=200.0,
     )
-    already_spectrum: EnumProperty(
-        name="Under",
-        description="The light the texture has already aged under",
-        items=PRIOR_SPECTRUM_ITEMS,
-        default="DAYLIGHT_GLASS",
-    )
-    already_uv_filter: BoolProperty(
-        name="UV Filter",
-        description="That light passed a UV-blocking filter",
-        default=False,
-    )
+    already_spectrum: _spectrum("The light the texture has already aged under",
+                                PRIOR_SPECTRUM_ITEMS, "DAYLIGHT_GLASS", name="Under")
+    already_uv_filter: _uv_filter("That light passed a UV-blocking filter")
     already_lux: FloatProperty(
         name="Illuminance",
         description="Illuminance on the material while that light was on, in lux",
@@ -187,13 +183,7 @@ class LIGHTFADE_PG_material(PropertyGroup):
         min=0.0,
         soft_max=20000.0,
     )
-    already_hours_per_day: FloatProperty(
-        name="Hours per Day",
-        description="Hours per day that light was on",
-        default=8.0,
-        min=0.0,
-        max=24.0,
-    )
+    already_hours_per_day: _hours_per_day("Hours per day that light was on")
     # -- written by Age on the object's aged copy of a material (read by Reset, the
     # -- handlers and the panels); the original material keeps none of this
     source: PointerProperty(
