@@ -541,11 +541,10 @@ class TestProgressAndCancel:
         floor = floor_scene["floor"]
         before = snapshot()
         reports, calls = [], []
-        wm = SimpleNamespace(event_timer_remove=lambda t: calls.append("timer off"),
-                             progress_end=lambda: calls.append("progress end"))
-        context = SimpleNamespace(window_manager=wm, workspace=SimpleNamespace(
-            status_text_set=lambda text: calls.append(("status", text))))
+        context = SimpleNamespace(window_manager=SimpleNamespace(
+            event_timer_remove=lambda t: calls.append("timer off")))
         op = SimpleNamespace(_cancel=False, _timer=object(),
+                             _window=SimpleNamespace(end=lambda: calls.append("progress end")),
                              report=lambda level, msg: reports.append((level, msg)))
         for name in ("_finish", "_end"):
             setattr(op, name, getattr(Op, name).__get__(op))
@@ -556,7 +555,7 @@ class TestProgressAndCancel:
         assert op._job.done == 1                      # one of the two groups baked
         assert Op.modal(op, context, SimpleNamespace(type="ESC")) == {"CANCELLED"}
         assert reports == [({"WARNING"}, "Bake cancelled: nothing was changed")]
-        assert calls == ["timer off", "progress end", ("status", None)]
+        assert calls == ["timer off", "progress end"]
         assert snapshot() == before
         assert len(floor.lightfade.exposure_maps) == 0
         assert not [i for i in bpy.data.images if i.name.startswith("LF_")]

@@ -11,6 +11,7 @@ from bpy.props import BoolProperty
 
 from ..bake import BakeCancelled, BakeSettings, ExposureBake, LightFadeBakeError, bake_exposure
 from ..bake import calibrate
+from ..progress import WindowProgress
 from ..targets import format_problems, material_problems
 
 
@@ -85,33 +86,26 @@ selected, every mesh whose material has LightFade enabled).  Esc cancels"""
         if self._refused(context):
             return {"CANCELLED"}
         wm = context.window_manager
+        self._window = WindowProgress(context, hint="Esc to cancel")
         self._job = ExposureBake(context, list(context.selected_objects), self._settings(context),
-                                 report=self._warn, progress=self._progress,
+                                 report=self._warn, progress=self._window,
                                  only_changed=self._only_changed(context))
         try:
             self._job.plan()
             self._job.__enter__()
         except LightFadeBakeError as err:
+            self._window.end()
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
         self._cancel = False
-        wm.progress_begin(0, 1000)
         self._timer = wm.event_timer_add(0.05, window=context.window)
         wm.modal_handler_add(self)
-        context.workspace.status_text_set("LightFade: baking exposure… (Esc to cancel)")
+        self._window(0.0, "baking exposure…")
         return {"RUNNING_MODAL"}
 
-    def _progress(self, fraction, message):
-        wm = bpy.context.window_manager
-        wm.progress_update(int(1000 * fraction))
-        if bpy.context.workspace is not None:
-            bpy.context.workspace.status_text_set(f"LightFade: {message} (Esc to cancel)")
-
     def _end(self, context, exc=None):
-        wm = context.window_manager
-        wm.event_timer_remove(self._timer)
-        wm.progress_end()
-        context.workspace.status_text_set(None)
+        context.window_manager.event_timer_remove(self._timer)
+        self._window.end()
         return self._job.__exit__(type(exc) if exc else None, exc, None)
 
     def modal(self, context, event):
