@@ -11,6 +11,8 @@ from __future__ import annotations
 import argparse
 import math
 
+from ..commands import ArgumentParser as Parser  # one-line usage errors, exit status 2
+
 #: Bake overrides: (flag, property path on the scene, type, metavar, help).  Each flag
 #: sets that setting of the opened file before a bake (and is kept in the saved file);
 #: a new bake setting is one row.  Values are checked against the setting's range or
@@ -28,13 +30,6 @@ BAKE_FLAGS = (
     ("--margin", "lightfade.bake_margin", int, "PX",
      "bake margin past UV island borders, pixels (default: the file's setting)"),
 )
-
-
-class Parser(argparse.ArgumentParser):
-    """argparse with one-line errors: ``lightfade: error: ...`` and exit status 2."""
-
-    def error(self, message):
-        self.exit(2, f"lightfade: error: {message} (see: {self.prog} --help)\n")
 
 
 def _years(text):
