@@ -79,23 +79,11 @@ def log(msg):
     print(f"[demo] {msg}", flush=True)
 
 
-@contextlib.contextmanager
 def quiet(enabled=True):
-    """Silence stdout at the file-descriptor level (Cycles' per-tile and bake chatter)."""
-    if not enabled:
-        yield
-        return
-    sys.stdout.flush()
-    saved = os.dup(1)
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 1)
-        yield
-    finally:
-        sys.stdout.flush()
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(devnull)
+    """Silence what Cycles prints to stdout (per-tile and bake chatter) when ``enabled``."""
+    from lightfade_addon.blender.bake.state import quiet_stdout
+
+    return quiet_stdout() if enabled else contextlib.nullcontext()
 
 
 # ----------------------------------------------------------------------- tags -> settings
