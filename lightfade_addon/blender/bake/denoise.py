@@ -70,27 +70,18 @@ def guard(denoised, raw, radius=4):
     return np.clip(denoised, 0.0, max_filter(raw, radius))
 
 
-def _block_sums(a, block):
-    """Sums over ``block``×``block`` tiles of an (H, W) array (zero-padded to whole tiles)."""
-    h, w = a.shape
-    H, W = -(-h // block), -(-w // block)
-    padded = np.zeros((H * block, W * block), dtype=np.float64)
-    padded[:h, :w] = a
-    return padded.reshape(H, block, W, block).sum(axis=(1, 3))
-
-
 def preserve_mean(denoised, raw, inside, radius=48, block=4, floor=1e-4):
     """``denoised`` (H, W) rescaled so that its local mean matches the raw bake's.
 
     OIDN underestimates where light arrives as rare bright paths (a shadow that only
-    bounce light reaches: about −9 % at 8 samples), since it takes them for outliers.
+    bounce light reaches: about −10 % at 8 samples), since it takes them for outliers.
     The raw bake is unbiased, and its mean over a large window is precise, so each
     texel is scaled by ``Σ raw / Σ denoised`` over a (2·radius+1)² window of texels of
     similar brightness inside the UV islands: brightness bands one stop wide (log2 of
-    the denoised value, hat weights between neighbouring bands), so that a shadow is
-    corrected by shadow texels only and its edges stay as sharp as the denoiser made
-    them.  The window sums are taken on ``block``² tiles (the factor is a smooth
-    field: a tile's texels share its value), the factor clipped to [0.5, 2].
+    the denoised value; a texel belongs to the two bands around it with hat weights),
+    so that a shadow is corrected by shadow texels only and its edges stay as sharp as
+    the denoiser made them.  The sums are taken per ``block``² tile (a tile's texels
+    share the factor of their bands: a smooth field), the factor clipped to [0.5, 2].
 
     Parameters
     ----------
@@ -102,27 +93,35 @@ def preserve_mean(denoised, raw, inside, radius=48, block=4, floor=1e-4):
     from scipy.ndimage import uniform_filter
 
     den = np.asarray(denoised, dtype=np.float32)
-    raw = np.asarray(raw, dtype=np.float32)
     h, w = den.shape
     top = float(den[inside].max()) if inside.any() else 0.0
     if top <= 0.0:
         return den.copy()
-    position = np.log2(np.maximum(den, np.float32(top * floor)) / np.float32(top))  # <= 0
-    size = 2 * (radius // block) + 1
-    factor = np.zeros_like(den)
-    total = np.zeros_like(den)
-    for band in range(int(np.floor(position[inside].min())), 1):
-        weight = np.maximum(1.0 - np.abs(position - band), 0.0) * inside
-        if not weight.any():
-            continue
-        a = uniform_filter(_block_sums(raw * weight, block), size, mode="constant")
-        b = uniform_filter(_block_sums(den * weight, block), size, mode="constant")
-        ratio = np.clip(a / np.where(b > 0, b, np.inf), 0.5, 2.0)
-        ratio[b <= 0] = 1.0
-        tiles = np.repeat(np.repeat(ratio, block, 0), block, 1)[:h, :w]
-        factor += weight * tiles.astype(np.float32)
-        total += weight
-    return den * np.where(total > 0, factor / np.where(total > 0, total, 1.0), 1.0)
+    # each texel's band (two neighbours, hat weights) and tile
+    position = np.log2(np.maximum(den, np.float32(top * floor)) / np.float32(top))   # <= 0
+    lowest = np.floor(position.min())
+    band = np.floor(position - lowest).astype(np.int64)
+    upper = (position - lowest - band).astype(np.float64)
+    bands = int(band.max()) + 2
+    rows, cols = -(-h // block), -(-w // block)
+    tile = ((np.arange(h) // block)[:, None] * cols + np.arange(w) // block).ravel()
+    low_bin = (band.ravel() * (rows * cols) + tile)
+    high_bin = low_bin + rows * cols
+    keep = inside.ravel()
+
+    def window_sums(values):
+        v = values.ravel().astype(np.float64) * keep
+        sums = (np.bincount(low_bin, v * (1.0 - upper.ravel()), bands * rows * cols)
+                + np.bincount(high_bin, v * upper.ravel(), bands * rows * cols))
+        size = (1, 2 * (radius // block) + 1, 2 * (radius // block) + 1)
+        return uniform_filter(sums.reshape(bands, rows, cols), size, mode="constant").ravel()
+
+    a, b = window_sums(raw), window_sums(den)
+    ratio = np.ones_like(b)
+    np.divide(a, b, out=ratio, where=b > 0)
+    ratio[b > 0] = np.clip(ratio[b > 0], 0.5, 2.0)
+    factor = ratio[low_bin] * (1.0 - upper.ravel()) + ratio[high_bin] * upper.ravel()
+    return den * np.where(keep, factor, 1.0).reshape(h, w).astype(np.float32)
 
 
 def _image(name, rgb):
