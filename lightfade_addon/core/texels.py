@@ -27,12 +27,12 @@ from .colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_decode
 
 __all__ = ["MAX_KEYS", "UNMIX_BUDGET", "UNMIX_REFINE", "texel_concentrations"]
 
-#: Most keys (rows of the aging table) per texture: 131,072 keys of one light
-#: spectrum and 65 dose nodes take 102 MB (:class:`.aging.TextureAger`).
+#: Most keys per texture by default (:class:`.aging.TextureAger` sets its own from
+#: the size of its table, :data:`.aging.TABLE_ROWS`).
 MAX_KEYS = 1 << 17
-#: Most colours unmixed exactly per texture (about 10 s on one core for this many);
+#: Most colours unmixed exactly per texture (about 40 s on one core for this many);
 #: more take a linear step from a bin's solution (:func:`_linearised`).
-UNMIX_BUDGET = 1 << 18
+UNMIX_BUDGET = 1 << 20
 #: Colours unmixed per call (bounds the solver's (n, wavelengths) temporaries).
 _UNMIX_BLOCK = 1 << 16
 #: Gauss–Newton iterations of each exact unmixing (from the unmixer's table).
