@@ -32,10 +32,11 @@ from .unmix import get_unmixer
 __all__ = ["Light", "Prior", "TextureAger", "age_image", "age_image_exact",
            "HOURS_PER_YEAR_DEFAULT"]
 
-#: Rows (a key's change at one mix node and dose node, 12 bytes) of a texture's aging
-#: table: 101 MB, 129,055 keys of one light spectrum and 65 dose nodes (more keys measured
-#: slower updates: a 2048² texture with 215,000 keys updated 2x slower than with 119,000).
-TABLE_ROWS = 1 << 23
+#: Rows (a key's change at one mix node and dose node: three float16, 6 bytes) of a
+#: texture's aging table: 101 MB, 258,111 keys of one light spectrum and 65 dose nodes.
+#: (Half-precision logs are within 0.1 % of float32; a float32 table of as many keys
+#: updated a 2048² texture no faster and took twice the memory.)
+TABLE_ROWS = 1 << 24
 #: Texels updated per block in :meth:`TextureAger.age` (bounds the temporaries).
 _BLOCK = 1 << 18
 
@@ -158,10 +159,10 @@ class TextureAger:
         curves = self.grid.curves(c, log_initial(self.grid, unmixer, c))     # (U, M, T, 3)
         U, M, T, _ = curves.shape
         # Planar table over (colour, mix node, dose node): a texel at fractional position
-        # i + f needs the values at nodes i and i + 1, 24 adjacent bytes: two gathers of
-        # a 'void12' view, the second from the cache line the first brought in.
-        self._values = np.ascontiguousarray(curves.reshape(-1, 3), dtype=np.float32)
-        self._nodes = self._values.view(np.dtype((np.void, 12))).ravel()
+        # i + f needs the values at nodes i and i + 1, 12 adjacent bytes: two gathers of
+        # a 'void6' view, the second from the cache line the first brought in.
+        self._values = np.ascontiguousarray(curves.reshape(-1, 3), dtype=np.float16)
+        self._nodes = self._values.view(np.dtype((np.void, 6))).ravel()
         del curves
         self._T = T
         key *= M * T
@@ -220,9 +221,9 @@ class TextureAger:
         acc = None if self._weights is None else np.zeros((3, k), dtype=np.float32)
         for v in range(self._offsets.shape[0]):
             np.add(self._offsets[v, s0:s1], i, out=idx)
-            lo = np.take(self._nodes, idx).view(np.float32).reshape(k, 3)
+            lo = np.take(self._nodes, idx).view(np.float16).reshape(k, 3).astype(np.float32)
             idx += 1
-            hi = np.take(self._nodes, idx).view(np.float32).reshape(k, 3)
+            hi = np.take(self._nodes, idx).view(np.float16).reshape(k, 3).astype(np.float32)
             for ch in range(3):                       # v_i + f (v_i+1 - v_i)
                 np.subtract(hi[:, ch], lo[:, ch], out=tmp)
                 tmp *= f
