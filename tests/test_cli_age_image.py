@@ -193,19 +193,24 @@ class TestAgeImage:
         assert mean_dE(src[:, W // 2:], aged[:, W // 2:]) > 0.5
         assert "mask scales them by 0.00-1.00" in out
 
-    def test_exact_path_agrees_with_the_grid(self, cache, run8, tmp_path):
-        # A real process: the module entry point, the exact path and the UV filter flag.
-        res = subprocess.run([sys.executable, "-m", "lightfade_addon", "age-image",
-                              str(run8["photo"]), "--years", "0", "25", "--exact",
-                              "--out", str(tmp_path)],
-                             cwd=ROOT, capture_output=True, text=True, timeout=120)
-        assert res.returncode == 0, res.stderr
-        exact, _, _ = images.read_image(tmp_path / "photo_25y.png")
+    def test_exact_path_agrees_with_the_grid(self, cache, run8, tmp_path, capsys):
+        # --exact: one direct simulation per distinct colour, on a corner of the photo
+        # (the magenta patch's edge and the gradient: 56 colours); each pixel ages on its
+        # own, so the grid's result for the corner is that corner of run8's.
+        rows, cols = slice(1, 8), slice(2, 10)
+        src, alpha, _ = images.read_image(run8["photo"])
+        src, alpha = src[rows, cols], alpha[rows, cols]
+        images.write_image(tmp_path / "corner.png", src, alpha, 8)
+        code, out, err = age(capsys, tmp_path / "corner.png", "--years", "0", "25", "--exact",
+                             "--out", tmp_path / "o")
+        assert code == 0, err
+        assert "exact reference path" in out.splitlines()[0]
+        assert "simulating exposure level" in err and "grid" not in err   # no grid was built
+        exact, _, _ = images.read_image(tmp_path / "o" / "corner_25y.png")
         grid, _, _ = images.read_image(run8["out"] / "photo_25y.png")
-        src, _, _ = images.read_image(run8["photo"])
-        gap = delta_E_2000(lab(exact), lab(grid))
+        gap = delta_E_2000(lab(exact), lab(grid[rows, cols]))
         assert gap.max() < 1.0 < mean_dE(src, exact), (gap.max(), mean_dE(src, exact))
-        zero, _, _ = images.read_image(tmp_path / "photo_0y.png")
+        zero, _, _ = images.read_image(tmp_path / "o" / "corner_0y.png")
         np.testing.assert_array_equal(zero, src)
 
     def test_help_documents_defaults_and_units(self, capsys):
