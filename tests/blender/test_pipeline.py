@@ -82,12 +82,14 @@ PROCESSES = {
 
 
 def _scene(lf, enabled=True, camera=True):
-    """conftest's floor scene, set up for the commands: Blue Wool 1, 64 px maps with 2
-    samples, a camera 3 m above the floor rendering 16x16 PNGs with 2 samples."""
+    """conftest's floor scene, set up for the commands: printed paper's own Blue Wool
+    class (its recipe then is the core's, whose unmixing table other tests have built),
+    64 px maps with 2 samples, a camera 3 m above the floor rendering 16x16 PNGs with
+    2 samples."""
     parts = lf.build_floor_scene()
     mat = parts["material"]
     mat.lightfade.enabled = enabled
-    mat.lightfade.blue_wool = 1
+    mat.lightfade.blue_wool = 2
     s = bpy.context.scene
     if camera:
         cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
@@ -269,7 +271,7 @@ def test_info_text_of_an_aged_file_shows_doses(lightfade):
     assert lightfade("age", "good.blend", "--years", "5").returncode == 0
     proc = lightfade("info", "good_aged.blend", "empty.blend")
     assert proc.returncode == 0, proc.stderr[-2000:]
-    assert "Floor / Carpet: direct (printed-paper, Blue Wool 1; aged)" in proc.stdout
+    assert "Floor / Carpet: direct (printed-paper, Blue Wool 2; aged)" in proc.stdout
     assert "Floor <- Sun: brightest texel" in proc.stdout
     assert "would age: nothing" in proc.stdout          # empty.blend
     assert "stale: nothing" in proc.stdout
