@@ -3,7 +3,6 @@
 import hashlib
 import io
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -301,13 +300,21 @@ class TestErrors:
         new = [p for p in tmp_path.rglob("*") if p.is_file() and p not in hashes]
         assert new == []                                         # nothing written
 
-    def test_in_a_real_process(self, tmp_path):
-        res = subprocess.run([sys.executable, "-m", "lightfade_addon", "age-image",
-                              str(tmp_path / "missing.png"), "--years", "5"],
-                             cwd=ROOT, capture_output=True, text=True, timeout=60)
+    def test_in_a_real_process(self, early):
+        folder, res = early("real process")
         assert res.returncode == 2
         assert res.stderr.splitlines() == [
-            f"lightfade: error: cannot read {str(tmp_path / 'missing.png')!r}: no such file"]
+            f"lightfade: error: cannot read {str(folder / 'missing.png')!r}: no such file"]
+
+
+def age_a_missing_file(jobs, folder):
+    """``python -m lightfade_addon age-image`` of a missing file, in a real process.  An
+    early job (tests/conftest.py): it runs beside the tests before this one."""
+    return folder, jobs.run([sys.executable, "-m", "lightfade_addon", "age-image",
+                             str(folder / "missing.png"), "--years", "5"], cwd=ROOT, timeout=60)
+
+
+EARLY = {"real process": age_a_missing_file}
 
 
 class TestHelpers:

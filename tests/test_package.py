@@ -5,7 +5,6 @@ small, the CLI works."""
 import ast
 import json
 import pathlib
-import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -124,11 +123,6 @@ def test_shell_modules_are_small():
     assert not big
 
 
-def _python(*args):
-    return subprocess.run([sys.executable, *args], cwd=ROOT, capture_output=True,
-                          text=True, timeout=120)
-
-
 #: A process without Blender: imports the package, its core and the command line, and
 #: runs ``lightfade info``; prints the Blender modules loaded before and after, then the
 #: command's status and output.
@@ -149,9 +143,21 @@ print(json.dumps([imported, blender(), status, out.getvalue()]))
 """
 
 
-def test_package_and_core_import_without_loading_bpy():
+def real_processes(jobs, folder):
+    """The module's two real processes: :data:`WITHOUT_BLENDER` and ``python -m
+    lightfade_addon no-such-command``.  An early job (tests/conftest.py): they run beside
+    the tests before these."""
+    return {name: jobs.run([sys.executable, *args], cwd=ROOT, timeout=120) for name, args in (
+        ("without blender", ["-c", WITHOUT_BLENDER]),
+        ("unknown command", ["-m", "lightfade_addon", "no-such-command"]))}
+
+
+EARLY = {"processes": real_processes}
+
+
+def test_package_and_core_import_without_loading_bpy(early):
     """...and ``lightfade info`` runs without Blender (and loads none of it)."""
-    proc = _python("-c", WITHOUT_BLENDER)
+    proc = early("processes")["without blender"]
     assert proc.returncode == 0, proc.stderr
     imported, after_info, status, out = json.loads(proc.stdout)
     assert imported == [] and after_info == []
@@ -161,9 +167,9 @@ def test_package_and_core_import_without_loading_bpy():
 
 
 class TestCommandLine:
-    def test_unknown_command_is_one_line_naming_it_and_the_valid_ones(self):
+    def test_unknown_command_is_one_line_naming_it_and_the_valid_ones(self, early):
         # a real process: the program name comes from ``python -m lightfade_addon``
-        out = _python("-m", "lightfade_addon", "no-such-command")
+        out = early("processes")["unknown command"]
         assert (out.returncode, out.stdout) == (2, "")
         [line] = out.stderr.splitlines()
         assert line.startswith("lightfade: error: ") and "'no-such-command'" in line
