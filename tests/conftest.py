@@ -110,6 +110,12 @@ def early(request):
     return lambda name: jobs.result(name, request.module.EARLY[name])
 
 
+@pytest.fixture(scope="session")
+def early_jobs(request):
+    """The :class:`EarlyJobs`, for fixtures that start a job once its inputs exist."""
+    return request.config.stash.setdefault(_EARLY, EarlyJobs())
+
+
 def pytest_sessionfinish(session):
     jobs = session.config.stash.get(_EARLY, None)
     if jobs is not None:

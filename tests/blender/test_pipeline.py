@@ -18,10 +18,10 @@ Scenes are tiny: the floor scene of conftest.py (an 8x8 albedo) with 64 px maps,
 """
 
 import contextlib
+import functools
 import io
 import json
 import os
-import subprocess
 import sys
 from pathlib import Path
 from types import SimpleNamespace
@@ -69,15 +69,16 @@ def _env():
     return env
 
 
-def _python(*args, cwd):
-    return subprocess.run([sys.executable, *map(str, args)], cwd=cwd, env=_env(),
-                          capture_output=True, text=True, timeout=300)
+def _python(*args, cwd, run):
+    return run([sys.executable, *map(str, args)], cwd=cwd, env=_env(), timeout=300)
 
 
-#: The real processes: ``blender -c lightfade ARGS`` and ``python -m lightfade_addon scene ARGS``.
+#: The real processes: ``blender -c lightfade ARGS`` and ``python -m lightfade_addon scene ARGS``
+#: (``run``: :meth:`EarlyJobs.run`, tests/conftest.py).
 PROCESSES = {
-    "blender -c": lambda *a, cwd: _python("-c", BLENDER_C, *a, cwd=cwd),
-    "python -m": lambda *a, cwd: _python("-m", "lightfade_addon", "scene", *a, cwd=cwd),
+    "blender -c": lambda *a, cwd, run: _python("-c", BLENDER_C, *a, cwd=cwd, run=run),
+    "python -m": lambda *a, cwd, run: _python("-m", "lightfade_addon", "scene", *a, cwd=cwd,
+                                              run=run),
 }
 
 
@@ -110,24 +111,48 @@ def _scene(lf, enabled=True, camera=True):
 
 
 @pytest.fixture(scope="module")
-def files(tmp_path_factory, lf):
+def files(tmp_path_factory, lf, early_jobs):
     """good.blend (an aging floor, a sun, a camera), empty.blend (nothing enabled),
-    nocam.blend (like good.blend without a camera) and bad.blend (not a .blend)."""
+    nocam.blend (like good.blend without a camera) and bad.blend (not a .blend).
+
+    Then starts :func:`real_processes` on copies of them (it runs beside the tests)."""
     src = tmp_path_factory.mktemp("scenes")
     for name, kw in (("good", {}), ("empty", {"enabled": False}), ("nocam", {"camera": False})):
         with lf.fresh_file():
             _scene(lf, **kw)
             bpy.ops.wm.save_as_mainfile(filepath=str(src / f"{name}.blend"), copy=True)
     (src / "bad.blend").write_text("this is not a blend file\n")
+    early_jobs.start(REAL, functools.partial(real_processes, src))
     return src
+
+
+def copy_scenes(src, folder):
+    folder.mkdir(parents=True, exist_ok=True)
+    for p in src.iterdir():
+        (folder / p.name).write_bytes(p.read_bytes())
+    return folder
 
 
 @pytest.fixture
 def work(files, tmp_path):
     """A fresh folder with copies of the scenes (the tests may overwrite them)."""
-    for p in files.iterdir():
-        (tmp_path / p.name).write_bytes(p.read_bytes())
-    return tmp_path
+    return copy_scenes(files, tmp_path)
+
+
+REAL = "pipeline: real processes"
+
+
+def real_processes(src, jobs, folder):
+    """Each entry point in a real process, each in a fresh copy of the scenes:
+    ``python -m lightfade_addon scene info good.blend missing.blend --json`` and a usage
+    error through ``blender -c lightfade``.  ``{name: (folder, process)}``."""
+    runs = {"info --json": ("python -m", ("info", "good.blend", "missing.blend", "--json")),
+            "usage error": ("blender -c", ("bake", "good.blend", "--resolution", "3"))}
+    out = {}
+    for name, (entry, args) in runs.items():
+        work = copy_scenes(src, folder / name.split()[0])
+        out[name] = work, PROCESSES[entry](*args, cwd=work, run=jobs.run)
+    return out
 
 
 @contextlib.contextmanager
@@ -245,14 +270,6 @@ def _check_info_json(report, missing, work):
 
 def test_info_json_names_paths_emitters_and_stale(lightfade, work):
     proc = lightfade("info", "good.blend", "missing.blend", "--json")
-    assert proc.returncode == 1, proc.stderr[-2000:]
-    report, missing = json.loads(proc.stdout)["files"]      # stdout is the JSON only
-    _check_info_json(report, missing, work)
-
-
-def test_info_json_in_a_real_process(work):
-    """``python -m lightfade_addon scene``: the exit status and a stdout of JSON only."""
-    proc = PROCESSES["python -m"]("info", "good.blend", "missing.blend", "--json", cwd=work)
     assert proc.returncode == 1, proc.stderr[-2000:]
     report, missing = json.loads(proc.stdout)["files"]      # stdout is the JSON only
     _check_info_json(report, missing, work)
@@ -414,16 +431,6 @@ def test_usage_errors_exit_2_with_one_line(lightfade, work, args, message):
     assert _untouched(work)
 
 
-def test_usage_error_in_a_real_process(work):
-    """``blender -c lightfade``: the command's status is the process's (a range that
-    only the registered add-on knows)."""
-    proc = PROCESSES["blender -c"]("bake", "good.blend", "--resolution", "3", cwd=work)
-    assert proc.returncode == 2, proc.stdout[-1000:] + proc.stderr[-1000:]
-    errors = [x for x in proc.stderr.splitlines() if x.startswith("lightfade: error:")]
-    assert errors == ["lightfade: error: --resolution 3: must be between 64 and 8192"]
-    assert _untouched(work)
-
-
 def test_help_exits_0(blender, capsys):
     from lightfade_addon import cli
 
@@ -440,3 +447,25 @@ def test_a_blend_this_blender_cannot_read_is_named_as_such(blender, tmp_path):
     with pytest.raises(files.Refused, match=f"^Blender {bpy.app.version_string} cannot read "
                                             "this .blend file .*saved by a newer Blender\\?$"):
         files.open_blend(str(future))
+
+
+# ------------------------------------------------------------------- the real processes
+# Last in the module: they ran beside the tests above (started by the files fixture).
+
+
+def test_info_json_in_a_real_process(files, early_jobs):
+    """``python -m lightfade_addon scene``: the exit status and a stdout of JSON only."""
+    work, proc = early_jobs.result(REAL, None)["info --json"]
+    assert proc.returncode == 1, proc.stderr[-2000:]
+    report, missing = json.loads(proc.stdout)["files"]      # stdout is the JSON only
+    _check_info_json(report, missing, work)
+
+
+def test_usage_error_in_a_real_process(files, early_jobs):
+    """``blender -c lightfade``: the command's status is the process's (a range that
+    only the registered add-on knows)."""
+    work, proc = early_jobs.result(REAL, None)["usage error"]
+    assert proc.returncode == 2, proc.stdout[-1000:] + proc.stderr[-1000:]
+    errors = [x for x in proc.stderr.splitlines() if x.startswith("lightfade: error:")]
+    assert errors == ["lightfade: error: --resolution 3: must be between 64 and 8192"]
+    assert _untouched(work)
