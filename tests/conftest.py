@@ -8,7 +8,7 @@ import subprocess
 import sys
 import tempfile
 import threading
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future
 from pathlib import Path
 
 import pytest
@@ -35,18 +35,19 @@ class EarlyJobs:
     """Jobs that only run real processes, started when collection ends.
 
     A test module declares ``EARLY = {name: job}``; ``job(jobs, folder)`` runs its
-    processes with :meth:`run` (in a thread of its own) in an empty temporary ``folder``
-    and returns what its tests check.  A test gets that with the ``early`` fixture:
-    ``early(name)`` waits for the job (starting it then if it was not).  The processes
-    run beside the tests before theirs (the second core); the jobs are not started
-    when no selected test asks for them, and a process still running at the end of the
-    session is killed.
+    processes with :meth:`run` in an empty temporary ``folder`` and returns what its
+    tests check.  A test gets that with the ``early`` fixture: ``early(name)`` waits for
+    the job (starting it then if it was not).  The jobs run one after the other in one
+    background thread, beside the tests before theirs (the second core); the thread
+    ends when no job is left (no idle thread lingers while tests fork).  The jobs are
+    not started when no selected test asks for them, and a process still running at
+    the end of the session is killed.
     """
 
     def __init__(self):
-        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="early-job")
-        self._futures, self._procs, self._folders = {}, [], []
+        self._futures, self._queue, self._procs, self._folders = {}, [], [], []
         self._lock = threading.Lock()
+        self._thread = None
         self._stopping = False
 
     def start(self, name, job):
@@ -54,8 +55,25 @@ class EarlyJobs:
             if name not in self._futures:
                 folder = Path(tempfile.mkdtemp(prefix="lightfade-early-"))
                 self._folders.append(folder)
-                self._futures[name] = self._pool.submit(job, self, folder)
+                self._futures[name] = future = Future()
+                self._queue.append((future, job, folder))
+                if self._thread is None:
+                    self._thread = threading.Thread(target=self._work, name="early-jobs")
+                    self._thread.start()
             return self._futures[name]
+
+    def _work(self):
+        while True:
+            with self._lock:
+                if not self._queue:
+                    self._thread = None
+                    return
+                future, job, folder = self._queue.pop(0)
+            if future.set_running_or_notify_cancel():
+                try:
+                    future.set_result(job(self, folder))
+                except BaseException as exc:  # noqa: BLE001 (the test reports it)
+                    future.set_exception(exc)
 
     def result(self, name, job):
         return self.start(name, job).result()
@@ -80,10 +98,15 @@ class EarlyJobs:
     def stop(self):
         with self._lock:
             self._stopping = True
+            thread = self._thread
+            for future, _job, _folder in self._queue:
+                future.cancel()
+            self._queue.clear()
             for proc in self._procs:
                 if proc.poll() is None:
                     proc.kill()
-        self._pool.shutdown(wait=True, cancel_futures=True)
+        if thread is not None:
+            thread.join()
         for folder in self._folders:
             shutil.rmtree(folder, ignore_errors=True)
 
