@@ -3,6 +3,7 @@ circles, in the whole package and so in the Blender shell), the shell's modules 
 small, the CLI works."""
 
 import ast
+import functools
 import json
 import pathlib
 import sys
@@ -17,6 +18,7 @@ def _module_name(path, root):
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
+@functools.lru_cache(maxsize=None)
 def import_graph(package=PACKAGE):
     """``{module: {modules it imports}}`` over the package's relative imports.
 

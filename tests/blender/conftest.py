@@ -130,12 +130,13 @@ def build_floor_scene():
 @pytest.fixture(scope="session")
 def lf():
     """Helpers for the tests: ``lf.add_sun``, ``lf.add_point``, ``lf.pixels``, ``lf.ROOT``,
-    ``lf.ADDON``, ``lf.fresh_file`` and ``lf.build_floor_scene`` (the scene of
-    :func:`floor_scene`, for fixtures wider than one test)."""
+    ``lf.ADDON``, ``lf.reset_file``, ``lf.fresh_file`` and ``lf.build_floor_scene`` (the
+    scene of :func:`floor_scene`, for fixtures wider than one test)."""
     from types import SimpleNamespace
 
     return SimpleNamespace(add_sun=add_sun, add_point=add_point, pixels=pixels, ROOT=ROOT,
-                           ADDON=ADDON, fresh_file=fresh_file, build_floor_scene=build_floor_scene)
+                           ADDON=ADDON, reset_file=reset_file, fresh_file=fresh_file,
+                           build_floor_scene=build_floor_scene)
 
 
 def pixels(image):
