@@ -131,8 +131,8 @@ sys.stdout.flush()
 
 def build_zip(jobs, out):
     """The zip written by the documented command (README, docs/blender.md) into ``out``."""
-    proc = jobs.run([sys.executable, str(ROOT / "tools" / "build_extension.py"), "--platform", PLATFORM,
-                     "--out", str(out)], cwd=ROOT)
+    proc = jobs.run([sys.executable, str(ROOT / "tools" / "build_extension.py"),
+                     "--platform", PLATFORM, "--out", str(out)], cwd=ROOT)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     version = tomllib.loads((ROOT / "blender_manifest.toml").read_text())["version"]
     return out / f"lightfade-{version}-{PLATFORM.replace('-', '_')}.zip"
@@ -152,8 +152,8 @@ def install_and_age(jobs, folder):
     env.pop("PYTHONPATH", None)
     out = folder / "result.json"
     repo_dir = folder / "repo"
-    proc = jobs.run([sys.executable, "-c", INSTALL_AND_AGE, str(built_zip), str(repo_dir), str(user_ext), str(out)],
-                    cwd=folder, env=env, timeout=600)
+    proc = jobs.run([sys.executable, "-c", INSTALL_AND_AGE, str(built_zip), str(repo_dir),
+                     str(user_ext), str(out)], cwd=folder, env=env, timeout=600)
     return SimpleNamespace(zip=built_zip, proc=proc, out=out, repo_dir=repo_dir, user_ext=user_ext)
 
 
@@ -196,7 +196,8 @@ def test_manifest_lists_both_pythons_for_every_platform():
 
 
 def test_installed_zip_bakes_and_ages(installed):
-    proc, out, repo_dir, user_ext = installed.proc, installed.out, installed.repo_dir, installed.user_ext
+    proc, out = installed.proc, installed.out
+    repo_dir, user_ext = installed.repo_dir, installed.user_ext
     log = f"exit {proc.returncode}\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}"
     assert out.exists(), log
     result = json.loads(out.read_text())
