@@ -3,7 +3,6 @@
 import hashlib
 import io
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -173,9 +172,9 @@ class TestAgeImage:
         rgb, alpha = photo_samples(8)
         Image.fromarray(np.rint(rgb * 255).astype(np.uint8)).save(tmp_path / "icc.png",
                                                                  icc_profile=profile)
-        code, out, err = age(capsys, tmp_path / "icc.png", "--years", "0", "5")
+        code, out, err = age(capsys, tmp_path / "icc.png", "--years", "0", "25")   # run8's grid
         assert code == 0, err
-        for name in ("icc_0y.png", "icc_5y.png"):
+        for name in ("icc_0y.png", "icc_25y.png"):
             with Image.open(tmp_path / name) as im:
                 assert im.info.get("icc_profile") == profile, name
 
@@ -193,19 +192,24 @@ class TestAgeImage:
         assert mean_dE(src[:, W // 2:], aged[:, W // 2:]) > 0.5
         assert "mask scales them by 0.00-1.00" in out
 
-    def test_exact_path_agrees_with_the_grid(self, cache, run8, tmp_path):
-        # A real process: the module entry point, the exact path and the UV filter flag.
-        res = subprocess.run([sys.executable, "-m", "lightfade_addon", "age-image",
-                              str(run8["photo"]), "--years", "0", "25", "--exact",
-                              "--out", str(tmp_path)],
-                             cwd=ROOT, capture_output=True, text=True, timeout=120)
-        assert res.returncode == 0, res.stderr
-        exact, _, _ = images.read_image(tmp_path / "photo_25y.png")
+    def test_exact_path_agrees_with_the_grid(self, cache, run8, tmp_path, capsys):
+        # --exact: one direct simulation per distinct colour, on a corner of the photo
+        # (the magenta patch's edge and the gradient: 56 colours); each pixel ages on its
+        # own, so the grid's result for the corner is that corner of run8's.
+        rows, cols = slice(1, 8), slice(2, 10)
+        src, alpha, _ = images.read_image(run8["photo"])
+        src, alpha = src[rows, cols], alpha[rows, cols]
+        images.write_image(tmp_path / "corner.png", src, alpha, 8)
+        code, out, err = age(capsys, tmp_path / "corner.png", "--years", "0", "25", "--exact",
+                             "--out", tmp_path / "o")
+        assert code == 0, err
+        assert "exact reference path" in out.splitlines()[0]
+        assert "simulating exposure level" in err and "grid" not in err   # no grid was built
+        exact, _, _ = images.read_image(tmp_path / "o" / "corner_25y.png")
         grid, _, _ = images.read_image(run8["out"] / "photo_25y.png")
-        src, _, _ = images.read_image(run8["photo"])
-        gap = delta_E_2000(lab(exact), lab(grid))
+        gap = delta_E_2000(lab(exact), lab(grid[rows, cols]))
         assert gap.max() < 1.0 < mean_dE(src, exact), (gap.max(), mean_dE(src, exact))
-        zero, _, _ = images.read_image(tmp_path / "photo_0y.png")
+        zero, _, _ = images.read_image(tmp_path / "o" / "corner_0y.png")
         np.testing.assert_array_equal(zero, src)
 
     def test_help_documents_defaults_and_units(self, capsys):
@@ -296,13 +300,21 @@ class TestErrors:
         new = [p for p in tmp_path.rglob("*") if p.is_file() and p not in hashes]
         assert new == []                                         # nothing written
 
-    def test_in_a_real_process(self, tmp_path):
-        res = subprocess.run([sys.executable, "-m", "lightfade_addon", "age-image",
-                              str(tmp_path / "missing.png"), "--years", "5"],
-                             cwd=ROOT, capture_output=True, text=True, timeout=60)
+    def test_in_a_real_process(self, early):
+        folder, res = early("real process")
         assert res.returncode == 2
         assert res.stderr.splitlines() == [
-            f"lightfade: error: cannot read {str(tmp_path / 'missing.png')!r}: no such file"]
+            f"lightfade: error: cannot read {str(folder / 'missing.png')!r}: no such file"]
+
+
+def age_a_missing_file(jobs, folder):
+    """``python -m lightfade_addon age-image`` of a missing file, in a real process.  An
+    early job (tests/conftest.py): it runs beside the tests before this one."""
+    return folder, jobs.run([sys.executable, "-m", "lightfade_addon", "age-image",
+                             str(folder / "missing.png"), "--years", "5"], cwd=ROOT, timeout=60)
+
+
+EARLY = {"real process": age_a_missing_file}
 
 
 class TestHelpers:

@@ -1,8 +1,11 @@
-"""The package's layering: core never touches Blender, imports run one way, the CLI works."""
+"""The package's layering: core never touches Blender, imports run one way (no import
+circles, in the whole package and so in the Blender shell), the shell's modules are
+small, the CLI works."""
 
 import ast
+import functools
+import json
 import pathlib
-import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -15,6 +18,7 @@ def _module_name(path, root):
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
+@functools.lru_cache(maxsize=None)
 def import_graph(package=PACKAGE):
     """``{module: {modules it imports}}`` over the package's relative imports.
 
@@ -101,6 +105,12 @@ class TestImportCircles:
         assert "lightfade_addon.blender.properties" in graph        # the whole package
         assert circles(graph) == []
 
+    def test_the_graph_sees_imports(self):
+        graph = import_graph()
+        assert "lightfade_addon.blender.runtime" in graph["lightfade_addon.blender.apply"]
+        assert "lightfade_addon.core.aging" in graph["lightfade_addon.blender.runtime"]
+        assert "lightfade_addon.blender.bake" in graph["lightfade_addon.pipeline.steps"]
+
     def test_commands_never_import_the_cli(self):
         graph = import_graph()
         assert "lightfade_addon.commands" in graph["lightfade_addon.cli"]
@@ -108,28 +118,60 @@ class TestImportCircles:
                        if m.startswith("lightfade_addon.commands"))
 
 
-def _python(*args):
-    return subprocess.run([sys.executable, *args], cwd=ROOT, capture_output=True,
-                          text=True, timeout=120)
+def test_shell_modules_are_small():
+    """One job per module in the Blender shell."""
+    big = [p.name for p in (PACKAGE / "blender").rglob("*.py")
+           if len(p.read_text().splitlines()) > 400 and p.name != "bake.py"]
+    assert not big
 
 
-def test_package_and_core_import_without_loading_bpy():
-    out = _python("-c", "import sys, lightfade_addon, lightfade_addon.core, lightfade_addon.cli;"
-                  "print(sorted(m for m in sys.modules if m.split('.')[0] in "
-                  "{'bpy', 'mathutils', 'bmesh'}))")
-    assert out.returncode == 0, out.stderr
-    assert out.stdout.strip() == "[]"
+#: A process without Blender: imports the package, its core and the command line, and
+#: runs ``lightfade info``; prints the Blender modules loaded before and after, then the
+#: command's status and output.
+WITHOUT_BLENDER = """
+import contextlib, io, json, sys
+import lightfade_addon, lightfade_addon.cli, lightfade_addon.core
+import lightfade_addon.core.colorimetry, lightfade_addon.core.colourants
+import lightfade_addon.core.spectra
+
+def blender():
+    return sorted(m for m in sys.modules if m.split('.')[0] in {'bpy', 'mathutils', 'bmesh'})
+
+imported = blender()
+out = io.StringIO()
+with contextlib.redirect_stdout(out):
+    status = lightfade_addon.cli.main(["info"])
+print(json.dumps([imported, blender(), status, out.getvalue()]))
+"""
+
+
+def real_processes(jobs, folder):
+    """The module's two real processes: :data:`WITHOUT_BLENDER` and ``python -m
+    lightfade_addon no-such-command``.  An early job (tests/conftest.py): they run beside
+    the tests before these."""
+    return {name: jobs.run([sys.executable, *args], cwd=ROOT, timeout=120) for name, args in (
+        ("without blender", ["-c", WITHOUT_BLENDER]),
+        ("unknown command", ["-m", "lightfade_addon", "no-such-command"]))}
+
+
+EARLY = {"processes": real_processes}
+
+
+def test_package_and_core_import_without_loading_bpy(early):
+    """...and ``lightfade info`` runs without Blender (and loads none of it)."""
+    proc = early("processes")["without blender"]
+    assert proc.returncode == 0, proc.stderr
+    imported, after_info, status, out = json.loads(proc.stdout)
+    assert imported == [] and after_info == []
+    assert status == 0
+    assert "simulate defaults: layers=" in out
+    assert "OpenImageIO 3." in out
 
 
 class TestCommandLine:
-    def test_runs_without_blender(self):
-        out = _python("-m", "lightfade_addon", "info")
-        assert out.returncode == 0, out.stderr
-        assert "simulate defaults: layers=" in out.stdout
-        assert "OpenImageIO 3." in out.stdout
-
-    def test_unknown_command_is_one_line_naming_it_and_the_valid_ones(self):
-        out = _python("-m", "lightfade_addon", "no-such-command")
+    def test_unknown_command_is_one_line_naming_it_and_the_valid_ones(self, early):
+        # a real process: the program name comes from ``python -m lightfade_addon``
+        out = early("processes")["unknown command"]
         assert (out.returncode, out.stdout) == (2, "")
         [line] = out.stderr.splitlines()
         assert line.startswith("lightfade: error: ") and "'no-such-command'" in line

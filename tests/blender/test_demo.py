@@ -1,5 +1,11 @@
 """The demo (``python -m scenes.demo``) end to end, in its ``--quick`` form: the room is
-built, tagged, baked, aged and rendered at a tiny size, and every output is written."""
+built, tagged, baked, aged and rendered at a tiny size, and every output is written.
+
+The end-to-end run is a study (``-m slow``, ~30 s): what it finds in the add-on is
+tested on small scenes elsewhere (baking, aging, saving aged pixels: test_aging.py,
+test_state.py; the scenes themselves: test_scenes.py).  Here, in the default run: the
+demo's tags become LightFade settings, and its labels.
+"""
 
 import sys
 from pathlib import Path
@@ -33,6 +39,7 @@ def pixels(path):
     return np.asarray(Image.open(path).convert("RGB"), dtype=np.float32) / 255.0
 
 
+@pytest.mark.slow
 def test_writes_frames_contact_sheet_gif_and_blend(quick_room):
     out, result = quick_room
     years = demo.SCENES["room"]["quick_years"]
@@ -47,6 +54,7 @@ def test_writes_frames_contact_sheet_gif_and_blend(quick_room):
     assert result["out"] == str(out)
 
 
+@pytest.mark.slow
 def test_aged_frame_differs_from_the_new_one(quick_room):
     out, _ = quick_room
     new, aged = pixels(out / "room_0y.png"), pixels(out / "room_25y.png")
@@ -54,12 +62,14 @@ def test_aged_frame_differs_from_the_new_one(quick_room):
     assert np.abs(aged - new).mean() > 0.005
 
 
+@pytest.mark.slow
 def test_reveal_frame_differs_from_the_aged_one(quick_room):
     out, _ = quick_room
     aged, reveal = pixels(out / "room_25y.png"), pixels(out / "room_reveal_25y.png")
     assert np.abs(reveal - aged).mean() > 0.005  # the rug and lamp are gone
 
 
+@pytest.mark.slow
 def test_tags_became_lightfade_settings(quick_room):
     _, result = quick_room
     tags = result["results"]["room"]["tags"]
@@ -70,6 +80,7 @@ def test_tags_became_lightfade_settings(quick_room):
     assert tags["emitters"]["World"]["hours_per_day"] == 10.0
 
 
+@pytest.mark.slow
 def test_saved_blend_keeps_the_aged_pixels(quick_room):
     out, _ = quick_room
     bpy.ops.wm.open_mainfile(filepath=str(out / "room.blend"))
@@ -83,6 +94,26 @@ def test_saved_blend_keeps_the_aged_pixels(quick_room):
     assert len(copies) == 1 and copies[0].lightfade.aged_image is not None
     assert copies[0].lightfade.aged_image.packed_file is not None
     assert bpy.context.scene.lightfade.years == pytest.approx(25.0)
+
+
+def test_tags_become_lightfade_settings_on_a_small_room(blender):
+    """The room's tags, applied as the demo applies them (without a bake)."""
+    from scenes import room
+
+    addon_utils.disable(demo.ADDON, default_set=True)     # as demo.run_scene: build
+    room.build(resolution=32)                             # (a factory reset), then enable
+    addon_utils.enable(demo.ADDON, default_set=True)
+    tags = demo.apply_tags(bpy.context.scene)
+    assert tags["materials"]["Rug_Wool"] == {"recipe": "dyed-fabric", "blue_wool": 4}
+    assert tags["materials"]["Floor_Oak"]["recipe"] == "bare-wood"
+    assert tags["emitters"]["Sun"]["spectrum"] == "daylight-glass"
+    assert tags["emitters"]["Lamp"]["spectrum"] == "incandescent"
+    assert tags["emitters"]["World"]["hours_per_day"] == 10.0
+    rug = bpy.data.materials["Rug_Wool"].lightfade
+    assert rug.enabled and rug.recipe == "DYED_FABRIC" and rug.blue_wool == 4
+    lamp = bpy.data.lights["Lamp"].lightfade
+    assert lamp.enabled and lamp.spectrum == "INCANDESCENT"
+    assert bpy.context.scene.world.lightfade.hours_per_day == 10.0
 
 
 def test_labels():

@@ -1,8 +1,10 @@
 """The zip built by the documented command installs, enables, bakes and ages in this Blender.
 
 The zip is built once per session with ``tools/build_extension.py --platform linux-x64``
-(Blender's own builder).  Each check runs in a subprocess with BLENDER_USER_EXTENSIONS /
-BLENDER_USER_CONFIG / BLENDER_USER_SCRIPTS in a temporary directory: installing an extension
+(Blender's own builder), then installed and aged in a subprocess: both run as an early job
+(tests/conftest.py), beside the tests before these.  The subprocess runs with
+BLENDER_USER_EXTENSIONS / BLENDER_USER_CONFIG / BLENDER_USER_SCRIPTS (and the grid cache)
+in a temporary directory: installing an extension
 also installs its wheels into the user extensions' site-packages, which must not leak into
 the developer's Blender or into this test process.  The subprocess installs the zip into a
 fresh repository with ``bpy.ops.extensions.package_install_files``, puts the site-packages
@@ -18,11 +20,11 @@ result; any other non-zero exit, or no result, fails.
 
 import json
 import os
-import subprocess
 import sys
 import tomllib
 import zipfile
 from pathlib import Path
+from types import SimpleNamespace
 
 import bpy
 import pytest
@@ -127,25 +129,48 @@ sys.stdout.flush()
 """
 
 
-@pytest.fixture(scope="session")
-def built_zip(tmp_path_factory):
-    """The zip written by the documented command (README, docs/blender.md), once per session."""
-    out = tmp_path_factory.mktemp("dist")
-    proc = subprocess.run(
-        [sys.executable, str(ROOT / "tools" / "build_extension.py"), "--platform", PLATFORM, "--out", str(out)],
-        cwd=ROOT, capture_output=True, text=True, timeout=900,
-    )
+def build_zip(jobs, out):
+    """The zip written by the documented command (README, docs/blender.md) into ``out``."""
+    proc = jobs.run([sys.executable, str(ROOT / "tools" / "build_extension.py"),
+                     "--platform", PLATFORM, "--out", str(out)], cwd=ROOT)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     version = tomllib.loads((ROOT / "blender_manifest.toml").read_text())["version"]
     return out / f"lightfade-{version}-{PLATFORM.replace('-', '_')}.zip"
+
+
+def install_and_age(jobs, folder):
+    """Build the zip, then install, enable, bake, age and uninstall it in a fresh process
+    (:data:`INSTALL_AND_AGE`) with every Blender user folder and the grid cache in
+    ``folder``.  An early job (tests/conftest.py): it runs beside the tests before these."""
+    built_zip = build_zip(jobs, folder / "dist")
+    user_ext = folder / "user_ext"
+    env = dict(os.environ,
+               BLENDER_USER_EXTENSIONS=str(user_ext),
+               BLENDER_USER_CONFIG=str(folder / "user_config"),
+               BLENDER_USER_SCRIPTS=str(folder / "user_scripts"),
+               LIGHTFADE_CACHE=str(folder / "grid_cache"))
+    env.pop("PYTHONPATH", None)
+    out = folder / "result.json"
+    repo_dir = folder / "repo"
+    proc = jobs.run([sys.executable, "-c", INSTALL_AND_AGE, str(built_zip), str(repo_dir),
+                     str(user_ext), str(out)], cwd=folder, env=env, timeout=600)
+    return SimpleNamespace(zip=built_zip, proc=proc, out=out, repo_dir=repo_dir, user_ext=user_ext)
+
+
+EARLY = {"install and age": install_and_age}
+
+
+@pytest.fixture
+def installed(early):
+    return early("install and age")
 
 
 def manifest_wheels():
     return tomllib.loads((ROOT / "blender_manifest.toml").read_text())["wheels"]
 
 
-def test_zip_layout(built_zip):
-    archive = zipfile.ZipFile(built_zip)
+def test_zip_layout(installed):
+    archive = zipfile.ZipFile(installed.zip)
     names = archive.namelist()
     assert "blender_manifest.toml" in names and "__init__.py" in names
     assert any(n.startswith("blender/operators/") for n in names)
@@ -170,17 +195,9 @@ def test_manifest_lists_both_pythons_for_every_platform():
     assert not any("numpy" in w for w in manifest_wheels())
 
 
-def test_installed_zip_bakes_and_ages(built_zip, tmp_path):
-    user_ext = tmp_path / "user_ext"
-    env = dict(os.environ,
-               BLENDER_USER_EXTENSIONS=str(user_ext),
-               BLENDER_USER_CONFIG=str(tmp_path / "user_config"),
-               BLENDER_USER_SCRIPTS=str(tmp_path / "user_scripts"))
-    env.pop("PYTHONPATH", None)
-    out = tmp_path / "result.json"
-    repo_dir = tmp_path / "repo"
-    proc = subprocess.run([sys.executable, "-c", INSTALL_AND_AGE, str(built_zip), str(repo_dir), str(user_ext), str(out)],
-                          cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
+def test_installed_zip_bakes_and_ages(installed):
+    proc, out = installed.proc, installed.out
+    repo_dir, user_ext = installed.repo_dir, installed.user_ext
     log = f"exit {proc.returncode}\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}"
     assert out.exists(), log
     result = json.loads(out.read_text())

@@ -1,22 +1,30 @@
 """The scene commands for pipelines, driven the way a pipeline calls them.
 
-Every command runs in a subprocess through the ``bpy`` module, by two entry points:
+Most commands run in this process (bpy is imported already) through the callback the
+add-on registers for ``blender -c lightfade`` (:func:`..blender.cli_command.execute`,
+see :class:`TestRegistration`), with stdout and stderr written to the real file
+descriptors as in a process of their own; the ``blender`` fixture resets the file the
+commands leave open.  Each entry point also runs in a real process of its own:
 
 * ``blender -c lightfade ARGS`` — there is no Blender binary here, so :data:`BLENDER_C`
   enables the add-on, catches the callback its ``register()`` hands to
   ``bpy.utils.register_cli_command`` and calls it with ``ARGS`` as a list of strings,
   which is what Blender's ``-c`` does (``bpy_cli_command_exec``), and exits with the int
-  it returns;
-* ``python -m lightfade_addon scene ARGS``.
+  it returns (:func:`test_usage_error_in_a_real_process`);
+* ``python -m lightfade_addon scene ARGS`` (:func:`test_info_json_in_a_real_process`).
 
-Scenes are tiny (an 8x8 albedo, 64 px maps, 2 samples, 16x16 renders).
+Scenes are tiny: the floor scene of conftest.py (an 8x8 albedo) with 64 px maps,
+2 samples and 16x16 renders.
 """
 
+import contextlib
+import functools
+import io
 import json
 import os
-import subprocess
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -54,41 +62,36 @@ sys.stderr.flush()
 os._exit(status)
 """
 
-#: Builds good.blend (an aging floor, a sun, a camera), empty.blend (nothing enabled)
-#: and nocam.blend (like good.blend without a camera) into argv[1].
-BUILD = r"""
-import math, os, sys
-import bpy
-import addon_utils  # importable once bpy is
-import numpy as np
 
-out = sys.argv[1]
+def _env():
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), env.get("PYTHONPATH", "")])
+    return env
 
 
-def scene(enabled=True, camera=True):
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    addon_utils.enable("lightfade_addon", default_set=False)
-    bpy.ops.mesh.primitive_plane_add(size=2.0)
-    floor = bpy.context.active_object
-    floor.name = "Floor"
-    mat = bpy.data.materials.new("Carpet")
-    if bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    albedo = bpy.data.images.new("CarpetAlbedo", 8, 8)
-    albedo.pixels.foreach_set(np.linspace(0.2, 0.9, 8 * 8 * 4, dtype=np.float32))
-    albedo.pack()
-    tex = mat.node_tree.nodes.new("ShaderNodeTexImage")
-    tex.image = albedo
-    bsdf = mat.node_tree.nodes["Principled BSDF"]
-    mat.node_tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+def _python(*args, cwd, run):
+    return run([sys.executable, *map(str, args)], cwd=cwd, env=_env(), timeout=300)
+
+
+#: The real processes: ``blender -c lightfade ARGS`` and ``python -m lightfade_addon scene ARGS``
+#: (``run``: :meth:`EarlyJobs.run`, tests/conftest.py).
+PROCESSES = {
+    "blender -c": lambda *a, cwd, run: _python("-c", BLENDER_C, *a, cwd=cwd, run=run),
+    "python -m": lambda *a, cwd, run: _python("-m", "lightfade_addon", "scene", *a, cwd=cwd,
+                                              run=run),
+}
+
+
+def _scene(lf, enabled=True, camera=True):
+    """conftest's floor scene, set up for the commands: printed paper's own Blue Wool
+    class (its recipe then is the core's, whose unmixing table other tests have built),
+    64 px maps with 2 samples, a camera 3 m above the floor rendering 16x16 PNGs with
+    2 samples."""
+    parts = lf.build_floor_scene()
+    mat = parts["material"]
     mat.lightfade.enabled = enabled
-    mat.lightfade.blue_wool = 1
-    floor.data.materials.append(mat)
-    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
-    sun.data.energy = 3.0
-    sun.rotation_euler = (math.radians(30), 0, 0)
+    mat.lightfade.blue_wool = 2
     s = bpy.context.scene
-    s.collection.objects.link(sun)
     if camera:
         cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
         cam.location = (0.0, 0.0, 3.0)
@@ -107,74 +110,102 @@ def scene(enabled=True, camera=True):
     s.render.image_settings.file_format = "PNG"
 
 
-for name, kw in (("good", {}), ("empty", {"enabled": False}), ("nocam", {"camera": False})):
-    scene(**kw)
-    bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out, name + ".blend"))
-sys.stdout.flush()
-os._exit(0)     # past the bpy 4.2 module's segfault at interpreter exit
-"""
-
-#: Prints a JSON summary of a .blend file's LightFade state.
-PROBE = r"""
-import json, os, sys
-import bpy
-import addon_utils  # importable once bpy is
-
-addon_utils.enable("lightfade_addon", default_set=False)
-bpy.ops.wm.open_mainfile(filepath=sys.argv[1])
-s = bpy.context.scene
-floor = s.objects["Floor"]
-maps = {m.name: list(m.image.size) for m in floor.lightfade.exposure_maps}
-copies = [m for m in bpy.data.materials if m.lightfade.source is not None]
-aged = copies[0].lightfade.aged_image if copies else None
-print("PROBE" + json.dumps({
-    "maps": maps, "years": s.lightfade.years, "density": s.lightfade_bake.texels_per_metre,
-    "aged": aged.name if aged else None, "aged_packed": bool(aged and aged.packed_file),
-    "grids": len(s.get("lightfade_grids", {})),
-}), flush=True)
-os._exit(0)     # past the bpy 4.2 module's segfault at interpreter exit
-"""
-
-
-def _env():
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), env.get("PYTHONPATH", "")])
-    return env
-
-
-def _python(*args, cwd):
-    return subprocess.run([sys.executable, *map(str, args)], cwd=cwd, env=_env(),
-                          capture_output=True, text=True, timeout=300)
-
-
-ENTRIES = {
-    "blender -c": lambda *a, cwd: _python("-c", BLENDER_C, *a, cwd=cwd),
-    "python -m": lambda *a, cwd: _python("-m", "lightfade_addon", "scene", *a, cwd=cwd),
-}
-
-
 @pytest.fixture(scope="module")
-def files(tmp_path_factory):
+def files(tmp_path_factory, lf, early_jobs):
+    """good.blend (an aging floor, a sun, a camera), empty.blend (nothing enabled),
+    nocam.blend (like good.blend without a camera) and bad.blend (not a .blend).
+
+    Then starts :func:`real_processes` on copies of them (it runs beside the tests)."""
     src = tmp_path_factory.mktemp("scenes")
-    proc = _python("-c", BUILD, src, cwd=src)
-    assert proc.returncode == 0, proc.stderr[-2000:]
+    for name, kw in (("good", {}), ("empty", {"enabled": False}), ("nocam", {"camera": False})):
+        with lf.fresh_file():
+            _scene(lf, **kw)
+            bpy.ops.wm.save_as_mainfile(filepath=str(src / f"{name}.blend"), copy=True)
     (src / "bad.blend").write_text("this is not a blend file\n")
+    early_jobs.start(REAL, functools.partial(real_processes, src))
     return src
+
+
+def copy_scenes(src, folder):
+    folder.mkdir(parents=True, exist_ok=True)
+    for p in src.iterdir():
+        (folder / p.name).write_bytes(p.read_bytes())
+    return folder
 
 
 @pytest.fixture
 def work(files, tmp_path):
     """A fresh folder with copies of the scenes (the tests may overwrite them)."""
-    for p in files.iterdir():
-        (tmp_path / p.name).write_bytes(p.read_bytes())
-    return tmp_path
+    return copy_scenes(files, tmp_path)
+
+
+REAL = "pipeline: real processes"
+
+
+def real_processes(src, jobs, folder):
+    """Each entry point in a real process, each in a fresh copy of the scenes:
+    ``python -m lightfade_addon scene info good.blend missing.blend --json`` and a usage
+    error through ``blender -c lightfade``.  ``{name: (folder, process)}``."""
+    runs = {"info --json": ("python -m", ("info", "good.blend", "missing.blend", "--json")),
+            "usage error": ("blender -c", ("bake", "good.blend", "--resolution", "3"))}
+    out = {}
+    for name, (entry, args) in runs.items():
+        work = copy_scenes(src, folder / name.split()[0])
+        out[name] = work, PROCESSES[entry](*args, cwd=work, run=jobs.run)
+    return out
+
+
+@contextlib.contextmanager
+def _real_streams():
+    """sys.stdout and sys.stderr writing straight to file descriptors 1 and 2, as in a
+    process of its own (``info --json`` points descriptor 1 at 2 meanwhile)."""
+    out = io.TextIOWrapper(io.FileIO(1, "w", closefd=False), encoding="utf-8",
+                           write_through=True)
+    err = io.TextIOWrapper(io.FileIO(2, "w", closefd=False), encoding="utf-8",
+                           write_through=True)
+    saved = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = out, err
+    try:
+        yield
+    finally:
+        sys.stdout, sys.stderr = saved
+        out.detach()
+        err.detach()
+
+
+@pytest.fixture
+def lightfade(blender, work, capfd, monkeypatch):
+    """``lightfade(*ARGS)``: ``blender -c lightfade ARGS`` in this process, in ``work``;
+    returns ``.returncode``, ``.stdout`` and ``.stderr`` like ``subprocess.run``."""
+    from lightfade_addon.blender import cli_command
+
+    monkeypatch.chdir(work)
+
+    def run(*args):
+        capfd.readouterr()
+        with _real_streams():
+            status = cli_command.execute([str(a) for a in args])
+        out, err = capfd.readouterr()
+        assert isinstance(status, int)
+        return SimpleNamespace(returncode=status, stdout=out, stderr=err)
+
+    return run
 
 
 def probe(path):
-    proc = _python("-c", PROBE, path, cwd=path.parent)
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    line = next(x for x in proc.stdout.splitlines() if x.startswith("PROBE"))
-    return json.loads(line[len("PROBE"):])
+    """A summary of a .blend file's LightFade state (opens it: the ``blender`` fixture
+    resets the file after the test)."""
+    bpy.ops.wm.open_mainfile(filepath=str(path), load_ui=False)
+    s = bpy.context.scene
+    floor = s.objects["Floor"]
+    maps = {m.name: list(m.image.size) for m in floor.lightfade.exposure_maps}
+    copies = [m for m in bpy.data.materials if m.lightfade.source is not None]
+    aged = copies[0].lightfade.aged_image if copies else None
+    return {
+        "maps": maps, "years": s.lightfade.years, "density": s.lightfade_bake.texels_per_metre,
+        "aged": aged.name if aged else None, "aged_packed": bool(aged and aged.packed_file),
+        "grids": len(s.get("lightfade_grids", {})),
+    }
 
 
 def leftovers(folder):
@@ -223,11 +254,7 @@ class TestRegistration:
 # --------------------------------------------------------------------------------- info
 
 
-@pytest.mark.parametrize("entry", sorted(ENTRIES))
-def test_info_json_names_paths_emitters_and_stale(work, entry):
-    proc = ENTRIES[entry]("info", "good.blend", "missing.blend", "--json", cwd=work)
-    assert proc.returncode == 1, proc.stderr[-2000:]
-    report, missing = json.loads(proc.stdout)["files"]      # stdout is the JSON only
+def _check_info_json(report, missing, work):
     assert missing == {"file": str(work / "missing.blend"), "error": "no such file"}
     assert report["file"] == str(work / "good.blend")
     assert [(e["object"], e["material"], e["status"]) for e in report["would_age"]] == [
@@ -241,8 +268,15 @@ def test_info_json_names_paths_emitters_and_stale(work, entry):
     assert leftovers(work) == []
 
 
-def test_info_json_to_a_file(work):
-    proc = ENTRIES["blender -c"]("info", "empty.blend", "--json", "reports/info.json", cwd=work)
+def test_info_json_names_paths_emitters_and_stale(lightfade, work):
+    proc = lightfade("info", "good.blend", "missing.blend", "--json")
+    assert proc.returncode == 1, proc.stderr[-2000:]
+    report, missing = json.loads(proc.stdout)["files"]      # stdout is the JSON only
+    _check_info_json(report, missing, work)
+
+
+def test_info_json_to_a_file(lightfade, work):
+    proc = lightfade("info", "empty.blend", "--json", "reports/info.json")
     assert proc.returncode == 0, proc.stderr[-2000:]
     report, = json.loads((work / "reports" / "info.json").read_text())["files"]
     assert report["file"] == str(work / "empty.blend") and report["would_age"] == []
@@ -250,11 +284,11 @@ def test_info_json_to_a_file(work):
     assert leftovers(work) == []
 
 
-def test_info_text_of_an_aged_file_shows_doses(work):
-    assert ENTRIES["python -m"]("age", "good.blend", "--years", "5", cwd=work).returncode == 0
-    proc = ENTRIES["blender -c"]("info", "good_aged.blend", "empty.blend", cwd=work)
+def test_info_text_of_an_aged_file_shows_doses(lightfade):
+    assert lightfade("age", "good.blend", "--years", "5").returncode == 0
+    proc = lightfade("info", "good_aged.blend", "empty.blend")
     assert proc.returncode == 0, proc.stderr[-2000:]
-    assert "Floor / Carpet: direct (printed-paper, Blue Wool 1; aged)" in proc.stdout
+    assert "Floor / Carpet: direct (printed-paper, Blue Wool 2; aged)" in proc.stdout
     assert "Floor <- Sun: brightest texel" in proc.stdout
     assert "would age: nothing" in proc.stdout          # empty.blend
     assert "stale: nothing" in proc.stdout
@@ -263,9 +297,9 @@ def test_info_text_of_an_aged_file_shows_doses(work):
 # ------------------------------------------------------------------------- bake and age
 
 
-def test_bake_writes_a_new_file_with_the_override(work):
+def test_bake_writes_a_new_file_with_the_override(lightfade, work):
     before = (work / "good.blend").read_bytes()
-    proc = ENTRIES["blender -c"]("bake", "good.blend", "--density", "20", cwd=work)
+    proc = lightfade("bake", "good.blend", "--density", "20")
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert (work / "good.blend").read_bytes() == before
     state = probe(work / "good_baked.blend")
@@ -274,11 +308,9 @@ def test_bake_writes_a_new_file_with_the_override(work):
     assert leftovers(work) == []
 
 
-@pytest.mark.parametrize("entry", sorted(ENTRIES))
-def test_age_bakes_ages_and_saves_to_output(work, entry):
+def test_age_bakes_ages_and_saves_to_output(lightfade, work):
     before = (work / "good.blend").read_bytes()
-    proc = ENTRIES[entry]("age", "good.blend", "--years", "12.5", "--output", "out/shot.blend",
-                          cwd=work)
+    proc = lightfade("age", "good.blend", "--years", "12.5", "--output", "out/shot.blend")
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert (work / "good.blend").read_bytes() == before
     state = probe(work / "out" / "shot.blend")
@@ -289,16 +321,15 @@ def test_age_bakes_ages_and_saves_to_output(work, entry):
     assert leftovers(work) == []
 
 
-def test_age_never_overwrites_the_input_unless_in_place(work):
+def test_age_never_overwrites_the_input_unless_in_place(lightfade, work):
     before = (work / "good.blend").read_bytes()
-    proc = ENTRIES["python -m"]("age", "good.blend", "--years", "3", "--output", "good.blend",
-                                cwd=work)
+    proc = lightfade("age", "good.blend", "--years", "3", "--output", "good.blend")
     assert proc.returncode == 1
     assert (work / "good.blend").read_bytes() == before
     assert refusals(proc.stderr) == [
         f"lightfade: good.blend: the output {work / 'good.blend'} is the input file: give "
         "another --output, or --in-place to overwrite it"]
-    proc = ENTRIES["python -m"]("age", "good.blend", "--years", "3", "--in-place", cwd=work)
+    proc = lightfade("age", "good.blend", "--years", "3", "--in-place")
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert probe(work / "good.blend")["years"] == 3.0
     assert leftovers(work) == []                         # no good.blend1 backup
@@ -333,9 +364,8 @@ def _pixels(path):
         bpy.data.images.remove(image)
 
 
-def test_render_years_writes_one_still_per_value(work, blender):
-    proc = ENTRIES["blender -c"]("render-years", "good.blend", "--years", "0", "40",
-                                 "--output", "stills", cwd=work)
+def test_render_years_writes_one_still_per_value(lightfade, work):
+    proc = lightfade("render-years", "good.blend", "--years", "0", "40", "--output", "stills")
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert sorted(p.name for p in (work / "stills").iterdir()) == ["good_0y.png", "good_40y.png"]
     young, old = _pixels(work / "stills" / "good_0y.png"), _pixels(work / "stills" / "good_40y.png")
@@ -344,9 +374,8 @@ def test_render_years_writes_one_still_per_value(work, blender):
     assert not (work / "good_aged.blend").exists() and leftovers(work) == []
 
 
-def test_render_years_without_camera_is_refused(work):
-    proc = ENTRIES["python -m"]("render-years", "nocam.blend", "--years", "1",
-                                "--output", "stills", cwd=work)
+def test_render_years_without_camera_is_refused(lightfade):
+    proc = lightfade("render-years", "nocam.blend", "--years", "1", "--output", "stills")
     assert proc.returncode == 1
     assert refusals(proc.stderr) == [
         "lightfade: nocam.blend: scene 'Scene' has no camera: set one (Scene Properties > "
@@ -356,14 +385,12 @@ def test_render_years_without_camera_is_refused(work):
 # -------------------------------------------------------------------------------- batch
 
 
-@pytest.mark.parametrize("entry", sorted(ENTRIES))
-def test_batch_names_the_failures_and_finishes_the_rest(work, entry):
+def test_batch_names_the_failures_and_finishes_the_rest(lightfade, work):
     (work / "again.blend").write_bytes((work / "good.blend").read_bytes())
     names = ["good.blend", "missing.blend", "bad.blend", "empty.blend", "again.blend"]
-    proc = ENTRIES[entry]("age", *names, "--years", "10", "--output", "aged", cwd=work)
+    proc = lightfade("age", *names, "--years", "10", "--output", "aged")
     assert proc.returncode == 1
     assert sorted(p.name for p in (work / "aged").iterdir()) == ["again.blend", "good.blend"]
-    assert probe(work / "aged" / "again.blend")["years"] == 10.0
     lines = refusals(proc.stderr)
     assert len(lines) == 3
     assert lines[0] == "lightfade: missing.blend: no such file"
@@ -374,9 +401,15 @@ def test_batch_names_the_failures_and_finishes_the_rest(work, entry):
     assert [r[0] for r in rows] == ["done", "refused", "refused", "refused", "done"]
     assert [r[2] for r in rows] == names
     assert leftovers(work) == []
+    assert probe(work / "aged" / "again.blend")["years"] == 10.0
 
 
 # -------------------------------------------------------------------------------- usage
+
+
+def _untouched(work):
+    return sorted(p.name for p in work.iterdir()) == sorted(
+        ["good.blend", "empty.blend", "nocam.blend", "bad.blend"])
 
 
 @pytest.mark.parametrize("args, message", [
@@ -390,19 +423,20 @@ def test_batch_names_the_failures_and_finishes_the_rest(work, entry):
     (("bake", "good.blend", "--samples", "4"), "--samples applies with --quality custom"),
     (("frobnicate", "good.blend"), "invalid choice"),
 ])
-def test_usage_errors_exit_2_with_one_line(work, args, message):
-    proc = ENTRIES["blender -c"](*args, cwd=work)
+def test_usage_errors_exit_2_with_one_line(lightfade, work, args, message):
+    proc = lightfade(*args)
     assert proc.returncode == 2, proc.stdout[-1000:] + proc.stderr[-1000:]
     errors = [x for x in proc.stderr.splitlines() if x.startswith("lightfade: error:")]
     assert len(errors) == 1 and message in errors[0]
-    assert sorted(p.name for p in work.iterdir()) == sorted(
-        ["good.blend", "empty.blend", "nocam.blend", "bad.blend"])
+    assert _untouched(work)
 
 
-def test_help_exits_0(work):
-    proc = ENTRIES["python -m"]("age", "--help", cwd=work)
-    assert proc.returncode == 0
-    assert "--years N" in proc.stdout and "--in-place" in proc.stdout
+def test_help_exits_0(blender, capsys):
+    from lightfade_addon import cli
+
+    assert cli.main(["scene", "age", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "--years N" in out and "--in-place" in out
 
 
 def test_a_blend_this_blender_cannot_read_is_named_as_such(blender, tmp_path):
@@ -413,3 +447,25 @@ def test_a_blend_this_blender_cannot_read_is_named_as_such(blender, tmp_path):
     with pytest.raises(files.Refused, match=f"^Blender {bpy.app.version_string} cannot read "
                                             "this .blend file .*saved by a newer Blender\\?$"):
         files.open_blend(str(future))
+
+
+# ------------------------------------------------------------------- the real processes
+# Last in the module: they ran beside the tests above (started by the files fixture).
+
+
+def test_info_json_in_a_real_process(files, early_jobs):
+    """``python -m lightfade_addon scene``: the exit status and a stdout of JSON only."""
+    work, proc = early_jobs.result(REAL, None)["info --json"]
+    assert proc.returncode == 1, proc.stderr[-2000:]
+    report, missing = json.loads(proc.stdout)["files"]      # stdout is the JSON only
+    _check_info_json(report, missing, work)
+
+
+def test_usage_error_in_a_real_process(files, early_jobs):
+    """``blender -c lightfade``: the command's status is the process's (a range that
+    only the registered add-on knows)."""
+    work, proc = early_jobs.result(REAL, None)["usage error"]
+    assert proc.returncode == 2, proc.stdout[-1000:] + proc.stderr[-1000:]
+    errors = [x for x in proc.stderr.splitlines() if x.startswith("lightfade: error:")]
+    assert errors == ["lightfade: error: --resolution 3: must be between 64 and 8192"]
+    assert _untouched(work)

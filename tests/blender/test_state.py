@@ -3,7 +3,6 @@ bad years refused, pixels in range, an exact reset, a file that does not grow, a
 process that agrees, schedules honoured, the debounce."""
 
 import os
-import subprocess
 import sys
 
 import numpy as np
@@ -32,6 +31,11 @@ def aged(material):
 @pytest.fixture
 def carpet(floor_scene):
     """The floor scene (64² uniform red albedo, a box casting a shadow), baked."""
+    return make_carpet(floor_scene)
+
+
+def make_carpet(floor_scene):
+    """:func:`carpet` from conftest's floor scene."""
     albedo = floor_scene["albedo"]
     albedo.scale(64, 64)
     px = np.empty((64, 64, 4), np.float32)
@@ -201,52 +205,14 @@ class TestReset:
         api.age_scene(scene, years=5)
         first = tmp_path / "first.blend"
         bpy.ops.wm.save_as_mainfile(filepath=str(first), compress=False)
-        for k in range(5):
-            if k < 3:
+        for k in range(4):
+            if k < 2:
                 bpy.ops.lightfade.bake_exposure()
             api.age_scene(scene, years=5 + k)
         again = tmp_path / "again.blend"
         bpy.ops.wm.save_as_mainfile(filepath=str(again), compress=False)
         assert os.path.getsize(again) <= 1.01 * os.path.getsize(first)
         assert grids(scene) == 1
-
-
-FRESH = """
-import os, sys, numpy as np, bpy, addon_utils
-sys.path.insert(0, {root!r})
-bpy.ops.wm.open_mainfile(filepath={path!r})
-addon_utils.enable("lightfade_addon", default_set=True)
-from lightfade_addon import api
-from lightfade_addon.blender.copies import copies_of
-api.set_years(bpy.context.scene, {years!r})
-image = copies_of()[0].lightfade.aged_image
-a = np.empty(len(image.pixels), np.float32)
-image.pixels.foreach_get(a)
-np.save({out!r}, a)
-sys.stdout.flush()
-os._exit(0)     # the bpy 4.2 module can crash while the interpreter shuts down (also on main)
-"""
-
-
-def test_fresh_process_renders_what_the_viewport_shows(carpet, tmp_path, lf):
-    """Save, then a new process opens the file and shows 12 years: same pixels as here,
-    also after a rebake that was never followed by Age."""
-    from lightfade_addon import api
-
-    scene = bpy.context.scene
-    api.age_scene(scene, years=4)
-    carpet["box"].location.x -= 0.8
-    bpy.ops.lightfade.bake_exposure()                      # stale, not re-aged
-    path = tmp_path / "fresh.blend"
-    bpy.ops.wm.save_as_mainfile(filepath=str(path))
-    out = tmp_path / "fresh.npy"
-    code = FRESH.format(root=str(lf.ROOT), path=str(path), years=12.0, out=str(out))
-    env = dict(os.environ)
-    subprocess.run([sys.executable, "-c", code], check=True, env=env, capture_output=True,
-                   timeout=300)
-    api.set_years(scene, 12.0)
-    here = aged(carpet["material"]).ravel()
-    np.testing.assert_allclose(np.load(out), here, atol=1e-5)
 
 
 def test_slider_waits_for_big_textures_to_rest(carpet, monkeypatch):
@@ -345,3 +311,59 @@ class TestAlreadyOld:
         mat.lightfade.already_years = 0.0
         api.age_scene(scene, years=0)
         np.testing.assert_allclose(aged(mat), photo, atol=1e-6)
+
+
+FRESH = """
+import os, sys, numpy as np, bpy, addon_utils
+sys.path.insert(0, {root!r})
+bpy.ops.wm.open_mainfile(filepath={path!r})
+addon_utils.enable("lightfade_addon", default_set=True)
+from lightfade_addon import api
+from lightfade_addon.blender.copies import copies_of
+api.set_years(bpy.context.scene, {years!r})
+image = copies_of()[0].lightfade.aged_image
+a = np.empty(len(image.pixels), np.float32)
+image.pixels.foreach_get(a)
+np.save({out!r}, a)
+sys.stdout.flush()
+os._exit(0)     # the bpy 4.2 module can crash while the interpreter shuts down (also on main)
+"""
+FRESH_JOB = "test_state: a fresh process"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def fresh_process(request, lf, early_jobs, tmp_path_factory):
+    """For :func:`test_fresh_process_renders_what_the_viewport_shows`, first in the module:
+    the carpet aged to 4 years, then rebaked with the shadow moved (stale, not re-aged),
+    saved; a new process (an early job, tests/conftest.py) opens the file and shows 12
+    years while the module's tests run; what this process shows at 12 years."""
+    if not any(item.name == "test_fresh_process_renders_what_the_viewport_shows"
+               for item in request.session.items):
+        return None
+    from lightfade_addon import api
+
+    folder = tmp_path_factory.mktemp("fresh")
+    path, out = folder / "fresh.blend", folder / "fresh.npy"
+    with lf.fresh_file():
+        carpet = make_carpet(lf.build_floor_scene())
+        scene = bpy.context.scene
+        api.age_scene(scene, years=4)
+        carpet["box"].location.x -= 0.8
+        bpy.ops.lightfade.bake_exposure()                  # stale, not re-aged
+        bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
+        code = FRESH.format(root=str(lf.ROOT), path=str(path), years=12.0, out=str(out))
+        early_jobs.start(FRESH_JOB, lambda jobs, _folder: jobs.run(
+            [sys.executable, "-c", code], env=dict(os.environ), timeout=300))
+        api.set_years(scene, 12.0)
+        here = aged(carpet["material"]).ravel().copy()
+    return out, here
+
+
+def test_fresh_process_renders_what_the_viewport_shows(fresh_process, early_jobs):
+    """Save, then a new process opens the file and shows 12 years: same pixels as here,
+    also after a rebake that was never followed by Age.  Last in the module: the process
+    ran beside the tests above."""
+    out, here = fresh_process
+    proc = early_jobs.result(FRESH_JOB, None)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    np.testing.assert_allclose(np.load(out), here, atol=1e-5)

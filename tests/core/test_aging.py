@@ -6,9 +6,14 @@ import pytest
 from lightfade_addon.core.aging import Light, TextureAger, age_image, age_image_exact
 from lightfade_addon.core.colorimetry import (
     XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
+from lightfade_addon.core.grid import GridSettings
 
 SUN = Light("daylight-glass", lux=3000, hours_per_day=8)
 LAMP = Light("incandescent", lux=300, hours_per_day=5)
+#: A coarse grid for the tests of what an ager does with its grid (zero years, shadows,
+#: doses, alpha, errors), not of the grid's accuracy (test_small_years_..., test_matches_
+#: the_exact_path and test_grid.py keep the default): a tenth of its build time.
+COARSE = GridSettings(points=5, doses=17, mix=2)
 
 
 def lab(img_srgb):
@@ -32,15 +37,17 @@ def shadow():
 
 class TestTextureAger:
     def test_zero_years_returns_the_original_exactly(self, image):
-        ager = TextureAger(image, "printed-paper", [SUN], encoding="srgb", max_years=10)
+        ager = TextureAger(image, "printed-paper", [SUN], encoding="srgb", max_years=10,
+                           settings=COARSE)
         np.testing.assert_array_equal(ager.age(0), image)
         q = np.round(image * 255) / 255
         ager8 = TextureAger(q.astype(np.float32), "printed-paper", [SUN], encoding="srgb",
-                            max_years=10)
+                            max_years=10, settings=COARSE)
         np.testing.assert_array_equal(np.round(ager8.age(0) * 255), np.round(q * 255))
 
     def test_fades_with_years_and_shadow_keeps_its_colour(self, image, shadow):
-        ager = TextureAger(image, "dyed-fabric", [SUN], shadow, encoding="srgb", max_years=20)
+        ager = TextureAger(image, "dyed-fabric", [SUN], shadow, encoding="srgb", max_years=20,
+                           settings=COARSE)
         d = [delta_E_2000(lab(image), lab(ager.age(y))).reshape(24, 32) for y in (2, 10, 20)]
         lit = shadow > 0
         assert d[0][lit].mean() < d[1][lit].mean() < d[2][lit].mean()
@@ -48,21 +55,33 @@ class TestTextureAger:
         assert d[2][~lit].max() < 1e-3
 
     def test_small_years_are_close_to_the_original(self, image):
+        # the default grid: how close it stays to the original at a tiny dose
         ager = TextureAger(image, "printed-paper", [SUN], encoding="srgb", max_years=10)
         assert delta_E_2000(lab(image), lab(ager.age(1e-6))).max() < 0.01
 
     def test_two_lights_and_per_light_exposure(self, image):
         e = np.stack([np.linspace(0, 1, 32)[None].repeat(24, 0),
                       np.linspace(1, 0, 32)[None].repeat(24, 0)])
-        ager = TextureAger(image, "printed-paper", [SUN, LAMP], e, encoding="srgb", max_years=5)
+        ager = TextureAger(image, "printed-paper", [SUN, LAMP], e, encoding="srgb", max_years=5,
+                           settings=COARSE)
         dose = ager.dose(5)
-        expected = 5 * (e[0] * SUN.annual_dose + e[1] * LAMP.annual_dose)
+        expected = 5 * (e[0] * 3000 * 8 * 365 + e[1] * 300 * 5 * 365)    # lux × h/day × days
         np.testing.assert_allclose(dose, expected, rtol=1e-6)
         assert ager.grid.mixes.shape[1] == 2
         assert ager.age(5).shape == image.shape
 
+    def test_lights_of_one_spectrum_add_up(self, image):
+        e = np.stack([np.linspace(0, 1, 32)[None].repeat(24, 0), np.full((24, 32), 0.5)])
+        twin = Light("daylight-glass", lux=300, hours_per_day=5)
+        ager = TextureAger(image, "printed-paper", [SUN, twin], e, encoding="srgb",
+                           max_years=5, settings=COARSE)
+        np.testing.assert_allclose(ager.dose(5), 5 * (e[0] * 3000 * 8 + e[1] * 300 * 5) * 365,
+                                   rtol=1e-6)
+        assert ager.grid.mixes.shape[1] == 1                  # one spectrum: one light group
+
     def test_rgba_output_leaves_alpha_alone(self, image):
-        ager = TextureAger(image, "printed-paper", [SUN], encoding="linear", max_years=5)
+        ager = TextureAger(image, "printed-paper", [SUN], encoding="linear", max_years=5,
+                           settings=COARSE)
         out = np.full((24 * 32, 4), 0.25, dtype=np.float32)
         ager.age(3, out=out)
         np.testing.assert_array_equal(out[:, 3], 0.25)
@@ -81,7 +100,8 @@ class TestTextureAger:
 
     @pytest.mark.parametrize("years", [-1.0, float("nan"), 11.0])
     def test_bad_years(self, image, years):
-        ager = TextureAger(image, "printed-paper", [SUN], encoding="srgb", max_years=10)
+        ager = TextureAger(image, "printed-paper", [SUN], encoding="srgb", max_years=10,
+                           settings=COARSE)
         with pytest.raises(ValueError, match="years"):
             ager.age(years)
 

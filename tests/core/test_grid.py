@@ -1,8 +1,8 @@
 """The mixture grid: axes, simplex lattice, accuracy against direct simulation, cache."""
 
 import os
-import subprocess
 import sys
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import pytest
@@ -144,21 +144,34 @@ class TestCache:
         np.testing.assert_array_equal(g1.change, g3.change)
         grid_from_bytes(files[0].read_bytes())           # valid again
 
-    def test_two_processes_building_the_same_grid(self, tmp_path):
-        code = ("from lightfade_addon.core.cache import load_or_build;"
-                "from lightfade_addon.core.grid import GridSettings;"
-                "from lightfade_addon.core.recipes import RECIPES;"
-                "from lightfade_addon.core.spectra import light_spectrum;"
-                "load_or_build(RECIPES['printed-paper'], light_spectrum('daylight')[None], 2e6,"
-                " GridSettings(points=4, doses=9))")
-        env = dict(os.environ, LIGHTFADE_CACHE=str(tmp_path))
-        root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-        procs = [subprocess.Popen([sys.executable, "-c", code], cwd=root, env=env)
-                 for _ in range(2)]
-        assert all(p.wait(timeout=300) == 0 for p in procs)
-        files = list(tmp_path.glob("grid-*.npz"))
-        assert len(files) == 1 and not list(tmp_path.glob(".grid-*"))
+    def test_two_processes_building_the_same_grid(self, early):
+        codes, files, leftovers = early("two processes build one grid")
+        assert codes == [0, 0]
+        assert len(files) == 1 and not leftovers
         grid_from_bytes(files[0].read_bytes())
+
+
+def two_processes_build_one_grid(jobs, folder):
+    """Two processes build the same grid into one cache folder at the same time.  An
+    early job (tests/conftest.py): it runs beside the tests before this one."""
+    code = ("from lightfade_addon.core.cache import load_or_build;"
+            "from lightfade_addon.core.grid import GridSettings;"
+            "from lightfade_addon.core.recipes import RECIPES;"
+            "from lightfade_addon.core.spectra import light_spectrum;"
+            "load_or_build(RECIPES['printed-paper'], light_spectrum('daylight')[None], 2e6,"
+            " GridSettings(points=4, doses=9))")
+    env = dict(os.environ, LIGHTFADE_CACHE=str(folder))
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    with ThreadPoolExecutor(2) as pool:
+        procs = list(pool.map(lambda _: jobs.run([sys.executable, "-c", code], cwd=root, env=env,
+                                                 timeout=300), range(2)))
+    for proc in procs:
+        assert proc.returncode == 0, proc.stderr[-2000:]
+    return ([p.returncode for p in procs], list(folder.glob("grid-*.npz")),
+            list(folder.glob(".grid-*")))
+
+
+EARLY = {"two processes build one grid": two_processes_build_one_grid}
 
 
 def test_store_is_used_before_building(tmp_path, monkeypatch):

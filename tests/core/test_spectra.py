@@ -1,8 +1,5 @@
 """Tests for lightfade_addon.core.spectra: resampling, light presets, UV filter."""
 
-import subprocess
-import sys
-
 import numpy as np
 import pytest
 from scipy.integrate import trapezoid as trapz
@@ -19,15 +16,7 @@ from lightfade_addon.core.spectra import (
 
 FINE = np.arange(300.0, 831.0)
 
-
-def test_core_modules_do_not_import_bpy():
-    code = (
-        "import sys\n"
-        "import lightfade_addon.core.spectra, lightfade_addon.core.colorimetry\n"
-        "import lightfade_addon.core.colourants\n"
-        "assert 'bpy' not in sys.modules, 'core imported bpy'\n"
-    )
-    subprocess.run([sys.executable, "-c", code], check=True)
+# That these modules import without bpy: tests/test_package.py (one process for the package).
 
 
 class TestWavelengths:
