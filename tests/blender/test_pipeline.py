@@ -4,7 +4,8 @@ Most commands run in this process (bpy is imported already) through the callback
 add-on registers for ``blender -c lightfade`` (:func:`..blender.cli_command.execute`,
 see :class:`TestRegistration`), with stdout and stderr written to the real file
 descriptors as in a process of their own; the ``blender`` fixture resets the file the
-commands leave open.  Each entry point also runs in a real process of its own:
+commands leave open.  Each entry point also runs in a real process of its own (started
+as soon as the scene files exist, beside the module's tests; checked last):
 
 * ``blender -c lightfade ARGS`` — there is no Blender binary here, so :data:`BLENDER_C`
   enables the add-on, catches the callback its ``register()`` hands to
