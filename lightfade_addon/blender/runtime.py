@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.aging import Light, TextureAger
+from ..core.grid import GridSettings
 from ..core.recipes import get_recipe
 from ..core.restore import Prior
 from .errors import AgingError
@@ -31,6 +32,8 @@ from .vocabulary import RECIPE_IDS, SPECTRUM_IDS
 
 #: Smallest prepared range: the slider's soft maximum.
 MIN_PREPARED_YEARS = 100.0
+#: The grid every preparation uses (the tests of bookkeeping patch in a coarser one).
+GRID_SETTINGS = GridSettings()
 
 
 def prepared_range(years):
@@ -155,8 +158,8 @@ def prepare(scene, copy, shape, progress=None):
     rgb = rgba[..., :3]
     try:
         ager = TextureAger(rgb, recipe, lights, exposure, max_years=props.max_years,
-                           encoding="linear", progress=progress, store=SceneGridStore(scene),
-                           prior=prior)
+                           encoding="linear", settings=GRID_SETTINGS, progress=progress,
+                           store=SceneGridStore(scene), prior=prior)
     except ValueError as err:
         raise AgingError(f"Material '{props.source.name}' on '{obj.name}': {err}") from None
     props.grid_key = ager.grid.key
@@ -180,6 +183,6 @@ def far_ager(state, years):
         return state.far[0]
     rgb, recipe, lights, exposure, prior = state.inputs
     far = TextureAger(rgb, recipe, lights, exposure, max_years=max_years, encoding="linear",
-                      store=None, prior=prior)
+                      settings=GRID_SETTINGS, store=None, prior=prior)
     state.far[:] = [far]
     return far

@@ -21,7 +21,7 @@ from .cache import load_or_build
 from .colorimetry import linear_srgb_to_XYZ, srgb_decode, srgb_encode, XYZ_to_linear_srgb
 from .gamut import encode_in_gamut, into_gamut_planes, out_of_gamut
 from .grid import GridSettings
-from .lattice import DOSE_POWER, dose_index, simplex_interpolation
+from .lattice import DOSE_POWER, dose_index, grid_max_dose, simplex_interpolation
 from .lights import HOURS_PER_YEAR_DEFAULT, Light, dose_rates, spectra_keys
 from .recipes import Recipe, get_recipe
 from .restore import Prior, log_initial, restore
@@ -143,7 +143,7 @@ class TextureAger:
         self.rate = rates.sum(axis=0)                                   # lux·h per year
         self.spectra = np.stack([light_spectrum(s, WAVELENGTHS, uv) for s, uv in keys])
 
-        max_dose = max(float(self.rate.max()) * self.max_years, 1.0)
+        max_dose = grid_max_dose(float(self.rate.max()) * self.max_years)
         say(0.0, "building the fading grid")
         self.grid = load_or_build(self.recipe, self.spectra, max_dose, settings, cache=cache,
                                   progress=lambda f, m: say(0.6 * f, m), store=store)

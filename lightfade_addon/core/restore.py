@@ -38,6 +38,7 @@ from .colorimetry import (
 from .gridbuild import XYZ_FLOOR
 from .gamut import encode_in_gamut, into_gamut
 from .grid import GridSettings
+from .lattice import grid_max_dose
 from .lights import Light, dose_rates, spectra_keys
 from .recipes import get_recipe
 from .spectra import WAVELENGTHS, light_spectrum
@@ -174,7 +175,7 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
 
     spectra = np.stack([light_spectrum(s, WAVELENGTHS, uv) for s, uv in keys])
     say(0.0, "building the fading grid")
-    grid = load_or_build(recipe, spectra, dmax, settings, cache=cache, store=store,
+    grid = load_or_build(recipe, spectra, grid_max_dose(dmax), settings, cache=cache, store=store,
                          progress=lambda f, m: say(0.5 * f, m))
     unmixer = get_unmixer(recipe)
     say(0.5, "unmixing colours")

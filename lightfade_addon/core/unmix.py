@@ -18,6 +18,7 @@ import numpy as np
 
 from .colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_encode, xyz_weights
 from .kubelka import kubelka_layer, over_ground
+from .recipes import Recipe
 from .spectra import WAVELENGTHS
 
 __all__ = ["Unmixer", "bounded_gauss_newton", "forward_reflectance", "get_unmixer", "jacobian",
@@ -226,7 +227,23 @@ class Unmixer:
         return out
 
 
-@functools.lru_cache(maxsize=16)
 def get_unmixer(recipe, wavelengths=tuple(WAVELENGTHS)):
-    """A cached :class:`Unmixer` per recipe (its table is built once per process)."""
+    """A cached :class:`Unmixer` per recipe's unexposed optics.
+
+    Unmixing depends only on what :func:`forward_reflectance` reads (colourants,
+    substrate, which are unmixed, the fixed concentrations, thickness): recipes that
+    differ in sensitivity (Blue Wool class, beta), kinetics, yields or solver settings
+    share one Unmixer, whose table is built once per process.
+    """
+    optics = (recipe.colourants, recipe.substrate, recipe.unmixed, recipe.fixed,
+              recipe.thickness)
+    return _unmixer(optics, tuple(wavelengths))
+
+
+@functools.lru_cache(maxsize=16)
+def _unmixer(optics, wavelengths):
+    colourants, substrate, unmixed, fixed, thickness = optics
+    recipe = Recipe(name="optics", colourants=colourants, substrate=substrate,
+                    blue_wool=(None,) * len(colourants), unmixed=unmixed, fixed=fixed,
+                    thickness=thickness)
     return Unmixer(recipe, np.asarray(wavelengths))

@@ -319,7 +319,10 @@ sys.path.insert(0, {root!r})
 bpy.ops.wm.open_mainfile(filepath={path!r})
 addon_utils.enable("lightfade_addon", default_set=True)
 from lightfade_addon import api
+from lightfade_addon.blender import runtime
 from lightfade_addon.blender.copies import copies_of
+from lightfade_addon.core.grid import GridSettings
+runtime.GRID_SETTINGS = {grid!r}          # the grid this test process uses
 api.set_years(bpy.context.scene, {years!r})
 image = copies_of()[0].lightfade.aged_image
 a = np.empty(len(image.pixels), np.float32)
@@ -341,6 +344,7 @@ def fresh_process(request, lf, early_jobs, tmp_path_factory):
                for item in request.session.items):
         return None
     from lightfade_addon import api
+    from lightfade_addon.blender import runtime
 
     folder = tmp_path_factory.mktemp("fresh")
     path, out = folder / "fresh.blend", folder / "fresh.npy"
@@ -351,7 +355,8 @@ def fresh_process(request, lf, early_jobs, tmp_path_factory):
         carpet["box"].location.x -= 0.8
         bpy.ops.lightfade.bake_exposure()                  # stale, not re-aged
         bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
-        code = FRESH.format(root=str(lf.ROOT), path=str(path), years=12.0, out=str(out))
+        code = FRESH.format(root=str(lf.ROOT), path=str(path), years=12.0, out=str(out),
+                           grid=runtime.GRID_SETTINGS)
         early_jobs.start(FRESH_JOB, lambda jobs, _folder: jobs.run(
             [sys.executable, "-c", code], env=dict(os.environ), timeout=300))
         api.set_years(scene, 12.0)
