@@ -1,7 +1,7 @@
-"""Contact sheets: thumbnails side by side, each labelled, under a title line (Pillow).
+"""Contact sheets: thumbnails in a row or a grid, each labelled, under a title line (Pillow).
 
-Used by the ``age-image`` command; any script that shows a series of images (the demo
-renders, a parameter sweep) can build its sheet the same way::
+Used by the ``age-image`` command (one row) and the demo (``scenes/demo.py``, three
+columns); any script that shows a series of images can build its sheet the same way::
 
     tiles = [thumbnail(rgb) for rgb in images]
     contact_sheet(tiles, ["0 y", "5 y"], ["0.00 Mlx·h", "2.19 Mlx·h"], title="photo.png")
@@ -59,8 +59,8 @@ def thumbnail(rgb, alpha=None, size=TILE):
     return im
 
 
-def contact_sheet(tiles, labels, sublabels, title=""):
-    """Tiles side by side, each with a label and a smaller label under it.
+def contact_sheet(tiles, labels, sublabels, title="", columns=None):
+    """Tiles in a row, or a grid of rows, each with a label and a smaller label under it.
 
     Parameters
     ----------
@@ -70,11 +70,22 @@ def contact_sheet(tiles, labels, sublabels, title=""):
         One each per tile.
     title : str
         A line above the tiles.
+    columns : int, optional
+        Tiles per row; later tiles wrap onto new rows. None puts all tiles in one row.
 
     Returns
     -------
     PIL.Image.Image
-        An RGB image.
+        An RGB image. A column is as wide as its widest tile or label; every row is as
+        tall as the tallest tile plus 44 pixels of labels; 10 pixels between and around.
+
+    Examples
+    --------
+    Five 150 × 100 tiles, three to a row: two rows.
+
+    >>> tiles = [thumbnail(np.zeros((100, 150, 3)))] * 5
+    >>> contact_sheet(tiles, ["0 y"] * 5, [""] * 5, columns=3).size
+    (490, 318)
     """
     from PIL import Image, ImageDraw
 
@@ -88,23 +99,31 @@ def contact_sheet(tiles, labels, sublabels, title=""):
         x0, _, x1, _ = probe.textbbox((0, 0), text, font=font)
         return x1 - x0
 
-    cols = [max(t.width, width(a, big), width(b, small))
-            for t, a, b in zip(tiles, labels, sublabels)]
+    n = len(tiles)
+    columns = n if columns is None else columns
+    if columns < 1:
+        raise ValueError(f"columns must be at least 1, not {columns}")
+    columns = min(columns, n)
+    rows = math.ceil(n / columns)
+    cells = [max(t.width, width(a, big), width(b, small))
+             for t, a, b in zip(tiles, labels, sublabels)]
+    cols = [max(cells[c::columns]) for c in range(columns)]
+    lefts = [pad + sum(cols[:c]) + pad * c for c in range(columns)]
     tile_h = max(t.height for t in tiles)
     title_h = 26 if title else 0
     text_h = 44
-    W = max(sum(cols) + pad * (len(tiles) + 1), width(title, small) + 2 * pad)
-    H = pad + title_h + tile_h + text_h + pad
+    row_h = tile_h + text_h + pad
+    W = max(sum(cols) + pad * (columns + 1), width(title, small) + 2 * pad)
+    H = pad + title_h + rows * row_h
     sheet = Image.new("RGB", (W, H), (250, 250, 248))
     draw = ImageDraw.Draw(sheet)
     if title:
         draw.text((pad, pad), title, fill=(40, 40, 40), font=small)
-    x = pad
-    for t, a, b, cw in zip(tiles, labels, sublabels, cols):
-        y = pad + title_h
+    for i, (t, a, b) in enumerate(zip(tiles, labels, sublabels)):
+        r, c = divmod(i, columns)
+        x, y, cw = lefts[c], pad + title_h + r * row_h, cols[c]
         sheet.paste(t, (x + (cw - t.width) // 2, y))
         cx = x + cw / 2
         draw.text((cx, y + tile_h + 6), a, fill=(20, 20, 20), font=big, anchor="mt")
         draw.text((cx, y + tile_h + 27), b, fill=(90, 90, 90), font=small, anchor="mt")
-        x += cw + pad
     return sheet

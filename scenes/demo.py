@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import math
 import os
 import sys
 import time
@@ -253,25 +252,19 @@ def labelled(path, label, sublabel="", bar=None):
     return out
 
 
-def contact_sheet(frames, path, title="", columns=3):
-    """Grid of labelled frames ``[(png, label, sublabel), ...]`` with a title; returns the image."""
-    from PIL import Image, ImageDraw
+def write_contact_sheet(frames, path, title="", columns=3):
+    """Frames ``[(png, label, sublabel), ...]`` at their rendered size in a grid of
+    ``columns``, labelled under each, with a title (:mod:`lightfade_addon.contact_sheet`)."""
+    from PIL import Image
 
-    tiles = [labelled(p, lab, sub) for p, lab, sub in frames]
-    tw, th = tiles[0].size
-    columns = min(columns, len(tiles))
-    rows = math.ceil(len(tiles) / columns)
-    gap = 6
-    head = max(20, th // 8) if title else 0
-    sheet = Image.new("RGB", (columns * tw + (columns + 1) * gap, head + rows * th + (rows + 1) * gap),
-                      (12, 12, 12))
-    if title:
-        size = max(10, int(head * 0.5))
-        ImageDraw.Draw(sheet).text((gap, gap + (head - size) // 2), title, fill=(235, 235, 235),
-                                   font=_font(size))
-    for i, tile in enumerate(tiles):
-        r, c = divmod(i, columns)
-        sheet.paste(tile, (gap + c * (tw + gap), head + gap + r * (th + gap)))
+    from lightfade_addon.contact_sheet import contact_sheet, thumbnail
+
+    tiles = []
+    for png, _, _ in frames:
+        rgb = np.asarray(Image.open(png).convert("RGB"), np.float32) / 255.0
+        tiles.append(thumbnail(rgb, size=max(rgb.shape[:2])))
+    sheet = contact_sheet(tiles, [f[1] for f in frames], [f[2] for f in frames], title=title,
+                          columns=columns)
     sheet.save(path, optimize=True)
     return sheet
 
@@ -493,7 +486,7 @@ def run_scene(name, out, preset, years=None, verbose=False):
     title = f"LightFade - {name}: " + ", ".join(
         f"{em} {s['spectrum']} {s['hours_per_day']:g} h/day" for em, s in tags["emitters"].items() if s)
     contact = out / f"contact_{name}.png"
-    contact_sheet(sheet_frames, contact, title=title, columns=3)
+    write_contact_sheet(sheet_frames, contact, title=title, columns=3)
     outputs = dict(frames=[f[0] for f in frames], reveal=[f[0] for f in reveal_frames],
                    extra={cam: [f[0] for f in v] for cam, v in extra.items()}, contact=str(contact))
     if name == "room":
