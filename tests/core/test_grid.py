@@ -13,8 +13,11 @@ from lightfade_addon.core.cache import load_or_build
 from lightfade_addon.core.grid import GridSettings
 from lightfade_addon.core.gridbuild import build_grid
 from lightfade_addon.core.gridfile import grid_from_bytes, grid_to_bytes
+from lightfade_addon.core.aging import TextureAger
 from lightfade_addon.core.lattice import (
-    concentration_axis, dose_axis, dose_index, mix_lattice, simplex_interpolation)
+    concentration_axis, dose_axis, dose_index, grid_max_dose, mix_lattice,
+    simplex_interpolation)
+from lightfade_addon.core.lights import Light
 from lightfade_addon.core.recipes import RECIPES
 from lightfade_addon.core.spectra import WAVELENGTHS as LAM, light_spectrum
 from lightfade_addon.core.unmix import get_unmixer
@@ -49,6 +52,26 @@ class TestAxes:
         np.testing.assert_allclose(dose_index(d / 64.0, 5), [0, 1, 2, 3, 4])
         with pytest.raises(ValueError):
             dose_axis(5, 0.0)
+
+    @pytest.mark.parametrize("dose", [0.2, 1.0, 1.0001, 3e6, 5.88e9, 5.985e9, 2.0 ** 30])
+    def test_grid_dose_is_the_next_quarter_octave(self, dose):
+        top = grid_max_dose(dose)
+        rung = 4 * np.log2(top)
+        assert rung == pytest.approx(round(rung), abs=1e-9)
+        assert max(dose, 1.0) <= top * (1 + 1e-9) and top < max(dose, 1.0) * 2 ** 0.25
+
+    def test_textures_of_nearly_the_same_peak_dose_share_a_grid(self):
+        """Brightest texels within a quarter octave: one grid; twice the dose: another."""
+        rgb = np.full((2, 2, 3), 0.5)
+        coarse = GridSettings(points=3, doses=5)
+
+        def key(peak):
+            exposure = np.array([[peak, 0.5], [0.1, 0.0]])
+            return TextureAger(rgb, PAPER, [Light(lux=1000.0)], exposure, settings=coarse,
+                               cache=False).grid.key
+
+        assert key(0.8) == key(0.82)         # 234 and 239 Mlx·h in 100 years: rung 2**28
+        assert key(0.8) != key(1.6)
 
     @pytest.mark.parametrize("S, q, count", [(1, 4, 1), (2, 4, 5), (3, 2, 6), (3, 4, 15)])
     def test_mix_lattice(self, S, q, count):

@@ -53,3 +53,15 @@ def test_forward_reflectance_of_nothing_is_the_substrate():
     r = RECIPES["dyed-fabric"]
     _, _, ground = r.optics()
     np.testing.assert_allclose(forward_reflectance(r, np.zeros((1, 3)))[0], ground, atol=1e-12)
+
+
+def test_recipes_of_the_same_optics_share_one_unmixer_and_others_do_not():
+    """Sensitivity, kinetics and solver settings do not change unmixing: one table."""
+    from dataclasses import replace
+
+    paper = RECIPES["printed-paper"]
+    assert get_unmixer(replace(paper, name="x", blue_wool=(1, 1, 1), kinetics="paper",
+                               layers=64)) is get_unmixer(paper)
+    assert get_unmixer(replace(paper, thickness=0.5)) is not get_unmixer(paper)
+    assert get_unmixer(replace(paper, substrate=RECIPES["bare-wood"].substrate)) \
+        is not get_unmixer(paper)
