@@ -50,13 +50,15 @@ class EarlyJobs:
         self._thread = None
         self._stopping = False
 
-    def start(self, name, job):
+    def start(self, name, job, soon=False):
+        """Queue ``job`` (once per ``name``); ``soon``: ahead of the queued jobs (a fixture's
+        job, which a test of the running module waits for, before jobs of later modules)."""
         with self._lock:
             if name not in self._futures:
                 folder = Path(tempfile.mkdtemp(prefix="lightfade-early-"))
                 self._folders.append(folder)
                 self._futures[name] = future = Future()
-                self._queue.append((future, job, folder))
+                self._queue.insert(0 if soon else len(self._queue), (future, job, folder))
                 if self._thread is None:
                     self._thread = threading.Thread(target=self._work, name="early-jobs")
                     self._thread.start()

@@ -123,7 +123,7 @@ def files(tmp_path_factory, lf, early_jobs):
             _scene(lf, **kw)
             bpy.ops.wm.save_as_mainfile(filepath=str(src / f"{name}.blend"), copy=True)
     (src / "bad.blend").write_text("this is not a blend file\n")
-    early_jobs.start(REAL, functools.partial(real_processes, src))
+    early_jobs.start(REAL, functools.partial(real_processes, src), soon=True)
     return src
 
 

@@ -358,7 +358,7 @@ def fresh_process(request, lf, early_jobs, tmp_path_factory):
         code = FRESH.format(root=str(lf.ROOT), path=str(path), years=12.0, out=str(out),
                            grid=runtime.GRID_SETTINGS)
         early_jobs.start(FRESH_JOB, lambda jobs, _folder: jobs.run(
-            [sys.executable, "-c", code], env=dict(os.environ), timeout=300))
+            [sys.executable, "-c", code], env=dict(os.environ), timeout=300), soon=True)
         api.set_years(scene, 12.0)
         here = aged(carpet["material"]).ravel().copy()
     return out, here
