@@ -35,6 +35,17 @@ def shadow():
     return e
 
 
+class TestLight:
+    def test_annual_dose_is_lux_times_hours_times_days(self):
+        assert Light(lux=200, hours_per_day=6, days_per_year=100).annual_dose == 200 * 6 * 100
+
+    def test_a_whole_day_every_day_of_a_leap_year_is_allowed_no_more(self):
+        assert Light(lux=10, hours_per_day=24, days_per_year=366).annual_dose == 10 * 24 * 366
+        for more in (dict(hours_per_day=24.5), dict(days_per_year=367)):
+            with pytest.raises(ValueError, match="24 h a day or 366 days"):
+                Light(**more)
+
+
 class TestTextureAger:
     def test_zero_years_returns_the_original_exactly(self, image):
         ager = TextureAger(image, "printed-paper", [SUN], encoding="srgb", max_years=10,
