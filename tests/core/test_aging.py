@@ -98,6 +98,16 @@ class TestTextureAger:
         np.testing.assert_array_equal(out[:, 3], 0.25)
         np.testing.assert_allclose(out[:, :3], ager.age(3).reshape(-1, 3), rtol=1e-6)
 
+    def test_linear_and_srgb_inputs_age_alike(self, image):
+        """The encoding is only how colours are stored: the same texture given in linear
+        sRGB is unmixed from the same colours and ages to the same colours."""
+        kw = dict(max_years=5, settings=COARSE)
+        srgb = TextureAger(image, "printed-paper", [SUN], encoding="srgb", **kw).age(5)
+        linear = TextureAger(srgb_decode(image).astype(np.float32), "printed-paper", [SUN],
+                             encoding="linear", **kw).age(5)
+        assert delta_E_2000(lab(image), lab(srgb)).mean() > 1          # a real fade
+        np.testing.assert_allclose(linear, srgb_decode(srgb), atol=1e-5)
+
     def test_matches_the_exact_path(self, image):
         a = age_image(image, [4.0], "printed-paper", [SUN])[0]
         b = age_image_exact(image, [4.0], "printed-paper", SUN)[0]
