@@ -337,6 +337,32 @@ def test_diffuse_bsdf_colour_is_aged(carpet):
     assert fed.image == copy.lightfade.aged_image
 
 
+def test_only_an_image_colour_through_the_exposure_uv_map_is_read_directly(carpet):
+    """The direct path needs the image's Color output, a live link and the exposure's UV
+    map; anything else is baked, and a muted link passes nothing (a plain colour)."""
+    from lightfade_addon import api
+
+    tree = carpet["material"].node_tree
+    tex, bsdf = tree.nodes["Image Texture"], tree.nodes["Principled BSDF"]
+
+    def plan():
+        (row,) = api.material_plan(bpy.context.scene)
+        return row["path"], row["reason"]
+
+    assert plan()[0] == "DIRECT"
+    tree.links.new(tex.outputs["Alpha"], bsdf.inputs["Base Color"])
+    assert plan()[0] == "BAKED"
+    tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"]).is_muted = True
+    assert plan()[0] == "FLAT"
+    bsdf.inputs["Base Color"].links[0].is_muted = False
+    carpet["floor"].data.uv_layers.new(name="Other")          # a copy of the exposure's UVs
+    uv = tree.nodes.new("ShaderNodeUVMap")
+    uv.uv_map = "Other"
+    tree.links.new(uv.outputs["UV"], tex.inputs["Vector"])
+    path, reason = plan()
+    assert path == "BAKED" and "samples UV map 'Other'" in reason
+
+
 def test_bake_operator_refuses_material_problems_before_cycles(floor_scene):
     tree = floor_scene["material"].node_tree
     tree.nodes.remove(tree.nodes["Principled BSDF"])
