@@ -363,6 +363,23 @@ def test_only_an_image_colour_through_the_exposure_uv_map_is_read_directly(carpe
     assert path == "BAKED" and "samples UV map 'Other'" in reason
 
 
+def test_material_settings_become_the_core_recipe_and_history(blender):
+    """β is in millionths; the Blue Wool class moves the recipe's weakest dye; the texture's
+    history is one light of the given spectrum, filter, lux and hours a day, every day."""
+    from lightfade_addon.blender.runtime import material_prior, material_recipe
+    from lightfade_addon.core.aging import Light, Prior
+
+    s = bpy.data.materials.new("Print").lightfade
+    s.blue_wool = 5
+    assert material_recipe(s.id_data).blue_wool == (7.0, 5.0, 6.0)    # printed paper: (4, 2, 3)
+    s.sensitivity_mode, s.beta = "BETA", 23.0
+    assert material_recipe(s.id_data).sensitivity().max() == pytest.approx(23e-6)
+    assert material_prior(s.id_data) is None
+    s.already_years, s.already_spectrum, s.already_uv_filter = 10.0, "LED", True
+    s.already_lux, s.already_hours_per_day = 300.0, 5.0
+    assert material_prior(s.id_data) == Prior(10.0, (Light("led", True, 300.0, 5.0, 365.0),))
+
+
 def test_bake_operator_refuses_material_problems_before_cycles(floor_scene):
     tree = floor_scene["material"].node_tree
     tree.nodes.remove(tree.nodes["Principled BSDF"])
