@@ -199,6 +199,18 @@ class TestSaveReload:
         assert image.packed_file is not None and tuple(image.size) == (64, 64)
 
 
+    def test_a_save_after_a_years_change_stores_the_new_pixels(self, carpet, tmp_path):
+        bpy.ops.lightfade.age(years=4)
+        path = str(tmp_path / "later.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        bpy.context.scene.lightfade.years = 12                # the packed image is now dirty
+        twelve = rgba(aged_image(carpet["material"])).copy()
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        bpy.ops.wm.open_mainfile(filepath=path)
+        np.testing.assert_allclose(rgba(aged_image(bpy.data.materials["Carpet"])), twelve,
+                                   atol=1e-6)
+
+
 class TestBadInput:
     def test_without_exposure_maps_the_operator_reports_the_object(self, floor_scene):
         with pytest.raises(RuntimeError, match="Object 'Floor' has no exposure maps"):
