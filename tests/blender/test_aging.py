@@ -72,7 +72,9 @@ class TestAge:
         assert carpet["albedo"].name in bpy.data.images
 
     def test_zero_years_reproduces_the_original(self, carpet):
+        bpy.context.scene.lightfade.years = 5      # the operator's 0 is 0, not the slider
         bpy.ops.lightfade.age(years=0)
+        assert bpy.context.scene.lightfade.years == 0
         aged = rgba(aged_image(carpet["material"]))[..., :3]
         original = srgb_decode(carpet["original"][..., :3])
         assert delta_E_2000(lab_linear(aged), lab_linear(original)).max() < 0.01
