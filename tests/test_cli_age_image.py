@@ -120,6 +120,24 @@ class TestAgeImage:
         assert "building the fading grid" in run8["stderr"]      # the progress lines
         assert "\r" not in run8["stderr"]                        # not a terminal: plain lines
 
+    def test_the_schedule_sets_the_light_and_the_dose(self, tmp_path, capsys, monkeypatch):
+        from lightfade_addon.core import aging
+
+        lights = []
+
+        def exact(rgb, years, recipe, light, exposure, **kw):      # records, ages nothing
+            lights.append(light)
+            return [rgb] * len(years)
+
+        monkeypatch.setattr(aging, "age_image_exact", exact, raising=False)
+        images.write_image(tmp_path / "grey.png", np.full((2, 2, 3), 0.5))
+        code, out, err = age(capsys, tmp_path / "grey.png", "--years", "0", "5", "--exact",
+                             "--lux", "50", "--hours-per-day", "6", "--days-per-year", "100",
+                             "--uv-filter", "--light", "led", "--out", tmp_path)
+        assert code == 0, err
+        assert lights == [aging.Light("led", True, 50.0, 6.0, 100.0)]
+        assert "5 y = 0.15 Mlx·h (50 lux × 6 h/day × 100 days/year)" in out.splitlines()
+
     def test_contact_sheet(self, run8):
         with Image.open(run8["out"] / "photo_contact.png") as im:
             assert im.mode == "RGB"

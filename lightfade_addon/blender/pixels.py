@@ -8,6 +8,8 @@ from ..core.colorimetry import srgb_decode
 
 #: Colour spaces whose stored values LightFade can read without Blender's colour
 #: management: sRGB (decoded here) and linear Rec.709 / data (taken as they are).
+#: Names are compared whole (lower case): Blender 5's "sRGB Encoded AP1" and "sRGB
+#: Encoded P3-D65" have the sRGB transfer function but other primaries.
 SRGB_SPACES = ("srgb",)
 LINEAR_SPACES = ("linear rec.709", "linear", "non-color", "raw", "linear srgb")
 
@@ -37,7 +39,7 @@ def readable_colourspace(image):
     if image.is_float:
         return True                      # float buffers hold scene-linear values
     name = image.colorspace_settings.name.lower()
-    return name.startswith(SRGB_SPACES) or name in LINEAR_SPACES
+    return name in SRGB_SPACES or name in LINEAR_SPACES
 
 
 def read_linear(image):
@@ -47,7 +49,7 @@ def read_linear(image):
     already hold scene-linear values; linear and non-colour data are taken as stored.
     """
     rgba = read_rgba(image)
-    if not image.is_float and image.colorspace_settings.name.lower().startswith(SRGB_SPACES):
+    if not image.is_float and image.colorspace_settings.name.lower() in SRGB_SPACES:
         rgba[..., :3] = srgb_decode(np.clip(rgba[..., :3], 0.0, 1.0))
     return rgba
 

@@ -72,7 +72,9 @@ class TestAge:
         assert carpet["albedo"].name in bpy.data.images
 
     def test_zero_years_reproduces_the_original(self, carpet):
+        bpy.context.scene.lightfade.years = 5      # the operator's 0 is 0, not the slider
         bpy.ops.lightfade.age(years=0)
+        assert bpy.context.scene.lightfade.years == 0
         aged = rgba(aged_image(carpet["material"]))[..., :3]
         original = srgb_decode(carpet["original"][..., :3])
         assert delta_E_2000(lab_linear(aged), lab_linear(original)).max() < 0.01
@@ -197,6 +199,18 @@ class TestSaveReload:
         bpy.ops.wm.open_mainfile(filepath=path)
         image = aged_image(bpy.data.materials["Carpet"])
         assert image.packed_file is not None and tuple(image.size) == (64, 64)
+
+
+    def test_a_save_after_a_years_change_stores_the_new_pixels(self, carpet, tmp_path):
+        bpy.ops.lightfade.age(years=4)
+        path = str(tmp_path / "later.blend")
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        bpy.context.scene.lightfade.years = 12                # the packed image is now dirty
+        twelve = rgba(aged_image(carpet["material"])).copy()
+        bpy.ops.wm.save_as_mainfile(filepath=path)
+        bpy.ops.wm.open_mainfile(filepath=path)
+        np.testing.assert_allclose(rgba(aged_image(bpy.data.materials["Carpet"])), twelve,
+                                   atol=1e-6)
 
 
 class TestBadInput:
@@ -335,6 +349,49 @@ def test_diffuse_bsdf_colour_is_aged(carpet):
     assert copy.lightfade.path == "DIRECT"
     fed = copy.node_tree.nodes[diffuse.name].inputs["Color"].links[0].from_node
     assert fed.image == copy.lightfade.aged_image
+
+
+def test_only_an_image_colour_through_the_exposure_uv_map_is_read_directly(carpet):
+    """The direct path needs the image's Color output, a live link and the exposure's UV
+    map; anything else is baked, and a muted link passes nothing (a plain colour)."""
+    from lightfade_addon import api
+
+    tree = carpet["material"].node_tree
+    tex, bsdf = tree.nodes["Image Texture"], tree.nodes["Principled BSDF"]
+
+    def plan():
+        (row,) = api.material_plan(bpy.context.scene)
+        return row["path"], row["reason"]
+
+    assert plan()[0] == "DIRECT"
+    tree.links.new(tex.outputs["Alpha"], bsdf.inputs["Base Color"])
+    assert plan()[0] == "BAKED"
+    tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"]).is_muted = True
+    assert plan()[0] == "FLAT"
+    bsdf.inputs["Base Color"].links[0].is_muted = False
+    carpet["floor"].data.uv_layers.new(name="Other")          # a copy of the exposure's UVs
+    uv = tree.nodes.new("ShaderNodeUVMap")
+    uv.uv_map = "Other"
+    tree.links.new(uv.outputs["UV"], tex.inputs["Vector"])
+    path, reason = plan()
+    assert path == "BAKED" and "samples UV map 'Other'" in reason
+
+
+def test_material_settings_become_the_core_recipe_and_history(blender):
+    """β is in millionths; the Blue Wool class moves the recipe's weakest dye; the texture's
+    history is one light of the given spectrum, filter, lux and hours a day, every day."""
+    from lightfade_addon.blender.runtime import material_prior, material_recipe
+    from lightfade_addon.core.aging import Light, Prior
+
+    s = bpy.data.materials.new("Print").lightfade
+    s.blue_wool = 5
+    assert material_recipe(s.id_data).blue_wool == (7.0, 5.0, 6.0)    # printed paper: (4, 2, 3)
+    s.sensitivity_mode, s.beta = "BETA", 23.0
+    assert material_recipe(s.id_data).sensitivity().max() == pytest.approx(23e-6)
+    assert material_prior(s.id_data) is None
+    s.already_years, s.already_spectrum, s.already_uv_filter = 10.0, "LED", True
+    s.already_lux, s.already_hours_per_day = 300.0, 5.0
+    assert material_prior(s.id_data) == Prior(10.0, (Light("led", True, 300.0, 5.0, 365.0),))
 
 
 def test_bake_operator_refuses_material_problems_before_cycles(floor_scene):

@@ -364,6 +364,26 @@ class TestLightGroups:
             lights_and_exposure(scene, floor_scene["floor"], (64, 64))
 
 
+    def test_every_schedule_setting_splits_a_group_and_changes_the_signature(self, floor_scene,
+                                                                            lf):
+        """Spectrum, UV filter, hours a day, days a year: lamps that differ in any are two
+        groups, and a change to any changes the exposure signature (aged copies go stale)."""
+        from lightfade_addon.blender.bake import find_groups
+
+        scene, floor = bpy.context.scene, floor_scene["floor"]
+        schedule = lf.add_sun(strength=1.0, name="Sun2").data.lightfade
+        bake_exposure(scene, [floor], SMALL)
+        signature = exposure_signature(scene, floor)
+        for name, value in (("spectrum", "LED"), ("uv_filter", True), ("hours_per_day", 2.0),
+                            ("days_per_year", 100.0)):
+            old = getattr(schedule, name)
+            setattr(schedule, name, value)
+            assert len(find_groups(scene)) == 2, name
+            assert exposure_signature(scene, floor) != signature, name
+            setattr(schedule, name, old)
+        assert exposure_signature(scene, floor) == signature
+
+
 class TestPhotometry:
     def test_luminance_not_red(self, floor_scene, lf):
         floor_scene["sun"].data.color = (0.0, 1.0, 0.0)  # green light: no red at all
@@ -588,6 +608,13 @@ class TestSettings:
         scene.lightfade_bake.denoise = False
         settings = BakeSettings.from_scene(scene)
         assert (settings.samples, settings.denoise) == (24, False)
+
+    def test_margin_density_and_largest_size_come_from_the_scene(self, blender):
+        scene = bpy.context.scene
+        scene.lightfade.bake_margin, scene.lightfade.bake_resolution = 5, 256
+        scene.lightfade_bake.texels_per_metre = 100.0
+        settings = BakeSettings.from_scene(scene)
+        assert (settings.margin, settings.max_size, settings.texels_per_metre) == (5, 256, 100.0)
 
     def test_calibration_gives_an_estimate(self, floor_scene):
         from lightfade_addon.blender.bake import calibrate, sizing

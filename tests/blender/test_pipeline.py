@@ -295,6 +295,17 @@ def test_info_text_of_an_aged_file_shows_doses(lightfade):
     assert "stale: nothing" in proc.stdout
 
 
+def test_info_doses_are_the_brightest_texel_times_the_schedule(floor_scene):
+    from lightfade_addon.pipeline.info import doses
+
+    sun = floor_scene["sun"].data.lightfade
+    sun.hours_per_day, sun.days_per_year = 6.0, 200.0
+    assert bpy.ops.lightfade.bake_exposure() == {"FINISHED"}
+    (entry,) = doses(bpy.context.scene)
+    assert entry["max_lux"] > 100
+    assert entry["max_annual_Mlxh"] == pytest.approx(entry["max_lux"] * 6.0 * 200.0 / 1e6)
+
+
 # ------------------------------------------------------------------------- bake and age
 
 

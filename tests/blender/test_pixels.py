@@ -5,7 +5,8 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from lightfade_addon.blender.pixels import read_linear, read_rgba, resample  # noqa: E402
+from lightfade_addon.blender.pixels import (  # noqa: E402
+    read_linear, read_rgba, readable_colourspace, resample)
 from lightfade_addon.core.colorimetry import srgb_decode  # noqa: E402
 
 
@@ -42,3 +43,16 @@ def test_srgb_byte_images_are_decoded_linear_and_float_are_not(blender):
                                srgb_decode(read_rgba(byte)[0, 0, :3]), atol=1e-6)
     np.testing.assert_allclose(read_linear(flt)[0, 0, :3], (0.5, 0.25, 1.0))
     np.testing.assert_allclose(read_linear(data)[0, 0, :3], read_rgba(data)[0, 0, :3])
+
+
+def test_only_srgb_linear_rec709_and_data_byte_images_are_read_directly(blender):
+    """Byte images in other colour spaces (other primaries or transfer functions, such as
+    Blender 5's sRGB-encoded wide gamuts) take the baked path, where Cycles converts them."""
+    image = bpy.data.images.new("byte", 2, 2)
+    spaces = {i.identifier for i in image.colorspace_settings.bl_rna.properties["name"].enum_items}
+    for name, readable in (("sRGB", True), ("Linear Rec.709", True), ("Non-Color", True),
+                           ("Linear Rec.2020", False), ("Filmic Log", False),
+                           ("sRGB Encoded AP1", False), ("sRGB Encoded P3-D65", False)):
+        if name in spaces:
+            image.colorspace_settings.name = name
+            assert readable_colourspace(image) == readable, name

@@ -94,6 +94,26 @@ class TestStale:
         assert api.material_plan(scene)[0]["status"].startswith("stale")
 
 
+    def test_every_sensitivity_and_history_setting_is_in_the_signature(self, floor_scene):
+        """Any change to how the material fades makes its aged copy stale."""
+        from lightfade_addon.blender import runtime
+
+        scene, mat = bpy.context.scene, floor_scene["material"]
+        copy = mat.copy()
+        copy.lightfade.source, copy.lightfade.aged_object = mat, floor_scene["floor"]
+        s = mat.lightfade
+        s.sensitivity_mode = "BETA"
+        seen = {runtime.signature(scene, copy)}
+        for name, value in (("beta", 40.0), ("sensitivity_mode", "BLUE_WOOL"), ("blue_wool", 6),
+                            ("recipe", "DYED_FABRIC"), ("already_years", 3.0),
+                            ("already_lux", 500.0), ("already_hours_per_day", 4.0),
+                            ("already_uv_filter", True), ("already_spectrum", "LED")):
+            setattr(s, name, value)
+            signature = runtime.signature(scene, copy)
+            assert signature not in seen, name
+            seen.add(signature)
+
+
 class TestYears:
     def test_huge_years_round_trip_is_exact_and_stores_one_grid(self, carpet):
         from lightfade_addon import api

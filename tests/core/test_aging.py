@@ -35,6 +35,17 @@ def shadow():
     return e
 
 
+class TestLight:
+    def test_annual_dose_is_lux_times_hours_times_days(self):
+        assert Light(lux=200, hours_per_day=6, days_per_year=100).annual_dose == 200 * 6 * 100
+
+    def test_a_whole_day_every_day_of_a_leap_year_is_allowed_no_more(self):
+        assert Light(lux=10, hours_per_day=24, days_per_year=366).annual_dose == 10 * 24 * 366
+        for more in (dict(hours_per_day=24.5), dict(days_per_year=367)):
+            with pytest.raises(ValueError, match="24 h a day or 366 days"):
+                Light(**more)
+
+
 class TestTextureAger:
     def test_zero_years_returns_the_original_exactly(self, image):
         ager = TextureAger(image, "printed-paper", [SUN], encoding="srgb", max_years=10,
@@ -86,6 +97,16 @@ class TestTextureAger:
         ager.age(3, out=out)
         np.testing.assert_array_equal(out[:, 3], 0.25)
         np.testing.assert_allclose(out[:, :3], ager.age(3).reshape(-1, 3), rtol=1e-6)
+
+    def test_linear_and_srgb_inputs_age_alike(self, image):
+        """The encoding is only how colours are stored: the same texture given in linear
+        sRGB is unmixed from the same colours and ages to the same colours."""
+        kw = dict(max_years=5, settings=COARSE)
+        srgb = TextureAger(image, "printed-paper", [SUN], encoding="srgb", **kw).age(5)
+        linear = TextureAger(srgb_decode(image).astype(np.float32), "printed-paper", [SUN],
+                             encoding="linear", **kw).age(5)
+        assert delta_E_2000(lab(image), lab(srgb)).mean() > 1          # a real fade
+        np.testing.assert_allclose(linear, srgb_decode(srgb), atol=1e-5)
 
     def test_matches_the_exact_path(self, image):
         a = age_image(image, [4.0], "printed-paper", [SUN])[0]

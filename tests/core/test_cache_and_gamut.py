@@ -5,7 +5,7 @@ import pytest
 
 from lightfade_addon.core import cache
 from lightfade_addon.core.colorimetry import linear_srgb_to_XYZ
-from lightfade_addon.core.gamut import LUMA, into_gamut, out_of_gamut
+from lightfade_addon.core.gamut import LUMA, into_gamut, into_gamut_planes, out_of_gamut
 from lightfade_addon.core.grid import GridSettings
 from lightfade_addon.core.recipes import RECIPES
 from lightfade_addon.core.spectra import light_spectrum
@@ -56,6 +56,14 @@ class TestIntoGamut:
         into_gamut(out[:, :3], out=out[:, :3])
         assert not out_of_gamut(out[:, :3]).any()
         np.testing.assert_array_equal(out[:, 3], np.float32([0.7, 0.4]))
+
+    def test_planes_follow_the_same_rule(self):
+        """The slider's fast path on (3, k) planes maps every colour as into_gamut does."""
+        rgb = np.array([[1.3, 0.4, 0.1], [0.2, 0.5, -0.15], [-0.1, 0.3, 1.4], [0.9, -0.05, 0.95],
+                        [1.5, 1.2, 1.1], [-0.5, -0.2, -0.1], [0.3, 0.6, 0.2]], np.float32)
+        planes = np.ascontiguousarray(rgb.T)
+        assert into_gamut_planes(planes) is planes
+        np.testing.assert_allclose(planes.T, into_gamut(rgb), atol=1e-6)
 
     def test_nan_is_refused(self):
         with pytest.raises(ValueError, match="NaN"):

@@ -5,7 +5,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from lightfade_addon.core.spectra import WAVELENGTHS
+from lightfade_addon.core.colorimetry import delta_E_ab, reflectance_to_Lab
+from lightfade_addon.core.spectra import WAVELENGTHS, light_spectrum
 from lightfade_addon.core.recipes import (
     JND_DELTA_E, RECIPES, _calibration_fade, blue_wool_dose, get_recipe)
 
@@ -29,6 +30,19 @@ class TestCalibration:
         for j, k in enumerate(r.blue_wool):
             fade = _calibration_fade(r, j, beta[j], blue_wool_dose(k), WAVELENGTHS)
             assert fade == pytest.approx(JND_DELTA_E, rel=1e-6)
+
+    def test_a_full_strength_dye_alone_fades_just_noticeably_at_its_class_dose(self):
+        """The calibration's definition, run through the recipe's own simulation: magenta
+        alone at full concentration on paper, under UV-filtered daylight."""
+        r = RECIPES["printed-paper"]
+        j = r.index("magenta")
+        c, beta = np.zeros(3), np.zeros(3)
+        c[j], beta[j] = 1.0, r.sensitivity()[j]
+        light = light_spectrum("daylight", WAVELENGTHS, uv_filter=True)
+        run = r.simulate(c, light, blue_wool_dose(r.blue_wool[j]), sensitivity=beta)
+        fade = delta_E_ab(reflectance_to_Lab(run.initial, WAVELENGTHS),
+                          reflectance_to_Lab(run.reflectance, WAVELENGTHS))
+        assert fade == pytest.approx(JND_DELTA_E, rel=1e-6)
 
     def test_higher_class_is_less_sensitive(self):
         r = RECIPES["dyed-fabric"]

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from lightfade_addon.core.aging import Light, Prior, TextureAger
+from lightfade_addon.core.grid import GridSettings
 from lightfade_addon.core.colorimetry import (
     XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
 from lightfade_addon.core.restore import restore
@@ -64,6 +65,20 @@ def test_texture_ager_with_a_prior_starts_from_new(image):
     assert delta_E_2000(lab(image), lab(new)).reshape(kept.shape)[kept].max() < 1.0
     again = delta_E_2000(lab(aged), lab(ager.age(years))).reshape(kept.shape)
     assert again[kept].max() < 1.0                       # back to how it was photographed
+
+
+def test_unlit_pixels_come_back_as_they_are_and_are_never_lost(image):
+    """With an exposure map, texels no light fell on are not restored, and a shadowed
+    white (at the edge of the range, where a lit one may have been clipped) is not lost."""
+    img = image[:4, :6].copy()
+    img[:, 0] = 1.0                                      # a white column, lit and unlit
+    exposure = np.ones(img.shape[:2])
+    exposure[2:] = 0.0
+    back = restore(img, 3.0, "printed-paper", [LIGHT], exposure, encoding="srgb",
+                   settings=GridSettings(points=5, doses=17, mix=2))
+    np.testing.assert_allclose(back.image[2:], img[2:], atol=1e-5)
+    assert np.abs(back.image[:2] - img[:2]).max() > 0.01  # the lit half was restored
+    assert back.lost[:2, 0].all() and not back.lost[2:].any()
 
 
 @pytest.mark.parametrize("bad, word", [(float("nan"), "years"), (-1.0, "years")])

@@ -29,6 +29,19 @@ class TestUnmixer:
         enc = unmixer.unmix(srgb_encode(rgb[inside]), encoded=True)
         np.testing.assert_allclose(enc, c2, atol=1e-9)
 
+    def test_table_alone_interpolates_between_its_nodes(self, unmixer):
+        """Without refinement a colour gets the trilinear blend of the table's eight nodes
+        around it: on a node exactly that node, between nodes close to the solution."""
+        n = unmixer.lut_size
+        nodes = np.array([[3, 7, 11], [0, 16, 5], [15, 1, 9]])
+        np.testing.assert_allclose(unmixer.unmix(nodes / (n - 1), encoded=True, refine=0),
+                                   unmixer.lut[tuple(nodes.T)], atol=1e-12)
+        c = np.random.default_rng(2).uniform(0, 1, (300, 3))
+        rgb = XYZ_to_linear_srgb(unmixer.XYZ(c))
+        inside = np.all((rgb >= 0) & (rgb <= 1), axis=1)
+        table = unmixer.unmix(rgb[inside], refine=0)
+        assert np.median(delta_E_2000(unmixer.Lab(table), unmixer.Lab(c[inside]))) < 1.0
+
     def test_out_of_gamut_gets_the_nearest_reachable_mixture(self, unmixer):
         green = np.array([[0.0, 1.0, 0.0], [1.0, 1.0, 1.0], [0.0, 0.0, 0.0]])
         c = unmixer.unmix(green)
