@@ -76,13 +76,15 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
     variables held at a bound by the step are frozen for that step (their columns
     of the Jacobian dropped), and the step is halved up to three times until the
     residual drops, so solutions with colourants at 0 or 1 (out-of-gamut colours)
-    converge instead of stalling at the start. Rows are independent.
+    converge instead of stalling at the start. Rows are independent: a row whose
+    step fails is solved (from the same point the next step would be the same), so
+    each step works on the rows that moved in the one before.
 
     Parameters
     ----------
-    F : callable, F(c, rows=None): (N, Cu) -> (N, K)
-        Row-wise; ``rows`` (when given) are the indices of ``c``'s rows among all
-        N, for row-specific parameters.
+    F : callable, F(x, rows): (n, Cu) -> (n, K)
+        Row-wise; ``rows`` are the indices among ``c``'s N rows of ``x``'s n rows,
+        for row-specific parameters.
     c : ndarray, shape (N, Cu)
         Start, in [0, 1]; overwritten with the solution.
     target : ndarray, shape (N, K)
@@ -93,28 +95,36 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
     ndarray, shape (N, Cu)
         ``c``.
     """
+    active = np.arange(c.shape[0])                              # rows still moving
     for _ in range(iterations):
-        F_c = F(c)
-        r = F_c - target                                        # (N, K) residual
-        J = jacobian(F, c, F_c, h)
+        if active.size == 0:
+            break
+        ca, ta = c[active], target[active]
+
+        def Fa(x, rows=None, active=active):
+            return F(x, active if rows is None else active[rows])
+
+        F_c = Fa(ca)
+        r = F_c - ta                                            # (n, K) residual
+        J = jacobian(Fa, ca, F_c, h)
         delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
-        held = ((c <= 0.0) & (delta > 0)) | ((c >= 1.0) & (delta < 0))
+        held = ((ca <= 0.0) & (delta > 0)) | ((ca >= 1.0) & (delta < 0))
         if held.any():
             J = np.where(held[:, None, :], 0.0, J)
             delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
             delta[held] = 0.0
         cost = np.sum(r * r, axis=1)
-        moved = np.zeros(c.shape[0], dtype=bool)
+        moved = np.zeros(active.size, dtype=bool)
         for alpha in (1.0, 0.5, 0.25, 0.125):
             todo = np.flatnonzero(~moved)
             if todo.size == 0:
                 break
-            trial = np.clip(c[todo] - alpha * delta[todo], 0.0, 1.0)
-            better = np.sum((F(trial, todo) - target[todo]) ** 2, axis=1) < cost[todo]
-            c[todo[better]] = trial[better]
+            trial = np.clip(ca[todo] - alpha * delta[todo], 0.0, 1.0)
+            better = np.sum((Fa(trial, todo) - ta[todo]) ** 2, axis=1) < cost[todo]
+            ca[todo[better]] = trial[better]
             moved[todo[better]] = True
-        if not moved.any():
-            break
+        c[active] = ca
+        active = active[moved]
     return c
 
 
