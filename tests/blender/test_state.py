@@ -315,12 +315,13 @@ class TestAlreadyOld:
         assert np.median(dE(new, photo)) > 1.0
         assert np.isfinite(new).all() and new.min() >= 0.0 and new.max() <= 1.0
         # the texture's own history, replayed on the estimate, gives the photograph back
-        from lightfade_addon.blender.runtime import material_prior, material_recipe
+        from lightfade_addon.blender.runtime import GRID_SETTINGS, material_prior, material_recipe
         from lightfade_addon.core.aging import TextureAger
 
         prior = material_prior(mat)
         replay = TextureAger(new[..., :3], material_recipe(mat), list(prior.lights), None,
-                             max_years=20, encoding="linear").age(prior.years)
+                             max_years=20, encoding="linear", settings=GRID_SETTINGS
+                             ).age(prior.years)
         copy = next(m for m in bpy.data.materials if m.lightfade.source == mat)
         assert copy.lightfade.lost_texels == 0
         assert np.percentile(dE(replay, photo), 90) < 1.0

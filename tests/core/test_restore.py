@@ -10,6 +10,9 @@ from lightfade_addon.core.colorimetry import (
 from lightfade_addon.core.restore import restore
 
 LIGHT = Light("daylight-glass", lux=1000)
+#: Restoring inverts the aging on the same grid, so the round trips hold on a coarse
+#: one (a tenth of the shipped grid's build time); test_grid checks the grid itself.
+COARSE = GridSettings(points=5, doses=17, mix=2)
 
 
 def lab(img_srgb):
@@ -27,9 +30,9 @@ def image():
 @pytest.mark.parametrize("years", [1.0, 3.0])
 def test_round_trip_where_information_survives(image, years):
     aged = TextureAger(image, "printed-paper", [LIGHT], encoding="srgb",
-                       max_years=years).age(years)
+                       max_years=years, settings=COARSE).age(years)
     fade = delta_E_2000(lab(image), lab(aged)).reshape(image.shape[:2])
-    back = restore(aged, years, "printed-paper", [LIGHT], encoding="srgb")
+    back = restore(aged, years, "printed-paper", [LIGHT], encoding="srgb", settings=COARSE)
     err = delta_E_2000(lab(image), lab(back.image)).reshape(image.shape[:2])
     kept = ~back.lost
     assert fade.mean() > 2                              # a visible fade to undo
@@ -41,8 +44,9 @@ def test_round_trip_where_information_survives(image, years):
 def test_lost_pixels_are_reported_after_a_total_fade(image):
     years = 200.0
     aged = TextureAger(image, "printed-paper", [Light(lux=5000)], encoding="srgb",
-                       max_years=years).age(years)
-    back = restore(aged, years, "printed-paper", [Light(lux=5000)], encoding="srgb")
+                       max_years=years, settings=COARSE).age(years)
+    back = restore(aged, years, "printed-paper", [Light(lux=5000)], encoding="srgb",
+                   settings=COARSE)
     assert back.lost.shape == image.shape[:2]
     assert back.lost.mean() > 0.9                        # the dyes are gone: nothing to recover
 
@@ -57,9 +61,9 @@ def test_zero_years_or_no_light_changes_nothing(image):
 def test_texture_ager_with_a_prior_starts_from_new(image):
     years = 2.0
     aged = TextureAger(image, "printed-paper", [LIGHT], encoding="srgb",
-                       max_years=years).age(years)
+                       max_years=years, settings=COARSE).age(years)
     ager = TextureAger(aged, "printed-paper", [LIGHT], encoding="srgb", max_years=years,
-                       prior=Prior(years, (LIGHT,)))
+                       prior=Prior(years, (LIGHT,)), settings=COARSE)
     kept = ~ager.lost
     new = ager.age(0)
     assert delta_E_2000(lab(image), lab(new)).reshape(kept.shape)[kept].max() < 1.0
@@ -75,7 +79,7 @@ def test_unlit_pixels_come_back_as_they_are_and_are_never_lost(image):
     exposure = np.ones(img.shape[:2])
     exposure[2:] = 0.0
     back = restore(img, 3.0, "printed-paper", [LIGHT], exposure, encoding="srgb",
-                   settings=GridSettings(points=5, doses=17, mix=2))
+                   settings=COARSE)
     np.testing.assert_allclose(back.image[2:], img[2:], atol=1e-5)
     assert np.abs(back.image[:2] - img[:2]).max() > 0.01  # the lit half was restored
     assert back.lost[:2, 0].all() and not back.lost[2:].any()

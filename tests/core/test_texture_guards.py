@@ -11,8 +11,9 @@ from lightfade_addon.core.colorimetry import (
 from lightfade_addon.core.exact import age_image_exact
 from lightfade_addon.core.grid import GridSettings
 
-#: A coarse grid where a test is not of the grid's accuracy (years far past 100, bad
-#: numbers, out-of-range inputs): a tenth of the default grid's build time.
+#: A coarse grid where a test is not of the grid's accuracy (reciprocity, years far past
+#: 100, bad numbers, out-of-range inputs and outputs): a tenth of the default grid's
+#: build time.
 COARSE = GridSettings(points=5, doses=17, mix=2)
 
 
@@ -44,10 +45,12 @@ def test_uv_filter_slows_yellowing_under_daylight():
 def test_reciprocity_at_texture_level(image):
     """Only lux × hours matters: 300 lux for 10 years = 3000 lux for 1 year = half the
     exposure for twice as long."""
-    a = TextureAger(image, "dyed-fabric", [Light(lux=300)], encoding="srgb", max_years=10).age(10)
-    b = TextureAger(image, "dyed-fabric", [Light(lux=3000)], encoding="srgb", max_years=1).age(1)
+    a = TextureAger(image, "dyed-fabric", [Light(lux=300)], encoding="srgb", max_years=10,
+                    settings=COARSE).age(10)
+    b = TextureAger(image, "dyed-fabric", [Light(lux=3000)], encoding="srgb", max_years=1,
+                    settings=COARSE).age(1)
     c = TextureAger(image, "dyed-fabric", [Light(lux=3000)], np.full(image.shape[:2], 0.5),
-                    encoding="srgb", max_years=2).age(2)
+                    encoding="srgb", max_years=2, settings=COARSE).age(2)
     assert delta_E_2000(lab(image), lab(a)).mean() > 1      # it did fade
     np.testing.assert_allclose(a, b, atol=2e-4)
     np.testing.assert_allclose(a, c, atol=2e-4)
@@ -116,7 +119,8 @@ def test_every_output_is_finite_and_in_range(encoding):
                      [1, 1, 0], [0.02, 0.02, 0.02], [1, 1, 1]], np.float32)
     img = np.repeat(hues[None], 4, 0)
     lights = [Light("daylight", lux=5000)]
-    ager = TextureAger(img, "dyed-fabric", lights, encoding=encoding, max_years=500)
+    ager = TextureAger(img, "dyed-fabric", lights, encoding=encoding, max_years=500,
+                       settings=COARSE)
     out = np.full((img.size // 3, 4), 0.5, np.float32)
     for y in (0, 0.5, 50, 500):
         for aged in (ager.age(y), ager.age(y, out=out)[:, :3]):
