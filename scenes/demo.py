@@ -1,8 +1,8 @@
 """The LightFade demo: the paper's Figure 9 redone, plus a gallery wall and a test chart.
 
 For each scene (``room``, ``gallery``, ``swatches``) it builds the scripted scene, maps the
-scene's ``lightfade_*`` custom tags to LightFade settings (:func:`apply_tags`), bakes the
-exposure maps, prepares aging once, and renders a sequence of years with
+scene's ``lightfade_*`` custom tags to LightFade settings (:func:`scenes.tags.apply_tags`),
+bakes the exposure maps, prepares aging once, and renders a sequence of years with
 ``api.set_years`` between renders (only the dose-dependent part runs). The room and the
 swatches also get the reveal state (rug and lamp, or the card, removed) at the last year.
 Outputs, all in one folder (``--out``, default ``out/demo/``)::
@@ -18,6 +18,9 @@ Outputs, all in one folder (``--out``, default ``out/demo/``)::
 
 Run ``python -m scenes.demo`` (or ``./run demo``); ``--quick`` makes a tiny version in
 seconds (used by the tests); ``--docs`` also writes small images to ``docs/img/``.
+
+This module is the run (presets, one scene, the command line); the pictures it writes
+are drawn by :mod:`scenes.demo_figures`.
 """
 
 from __future__ import annotations
@@ -35,16 +38,15 @@ if str(ROOT) not in sys.path:
 
 import bpy  # noqa: E402, I001  (first: it makes Blender's own modules importable)
 import addon_utils  # noqa: E402
-import numpy as np  # noqa: E402
 
 from scenes import common as C  # noqa: E402
 from scenes import gallery, materials, room, swatches  # noqa: E402
+from scenes.demo_figures import (  # noqa: E402
+    dose_label, write_contact_sheet, write_docs, write_gif, years_label, years_slug)
+from scenes.render import apply_view_settings, configure_render, render_still  # noqa: E402
+from scenes.tags import annual_doses, apply_tags, peak_annual_dose  # noqa: E402
 
 ADDON = "lightfade_addon"
-DOCS_IMG = ROOT / "docs" / "img"
-DOCS_PNG_LIMIT = 400_000  # bytes
-DOCS_GIF_LIMIT = 3_000_000
-DOCS_GIF_WIDTH = 480
 
 #: Render and bake sizes. "full" keeps the whole demo (three scenes) well under 10 minutes
 #: on two CPU cores; "quick" is a smoke test that runs in seconds.
@@ -85,7 +87,7 @@ def quiet(enabled=True):
     return quiet_stdout() if enabled else contextlib.nullcontext()
 
 
-# ----------------------------------------------------------------------- tags -> settings
+# ----------------------------------------------------------------------- the add-on
 
 
 def _addon():
@@ -97,232 +99,6 @@ def _addon():
     from lightfade_addon import api
 
     return api
-
-
-def _schedule_from_tags(schedule, idb, spectrum_enum):
-    """Copy ``lightfade_*`` tags of ``idb`` to a LightFade schedule; untagged: excluded."""
-    if "lightfade_spectrum" not in idb:
-        schedule.enabled = False
-        return None
-    schedule.enabled = True
-    schedule.spectrum = spectrum_enum[idb["lightfade_spectrum"]]
-    schedule.hours_per_day = float(idb.get("lightfade_hours_per_day", schedule.hours_per_day))
-    schedule.days_per_year = float(idb.get("lightfade_days_per_year", schedule.days_per_year))
-    schedule.uv_filter = bool(idb.get("lightfade_uv_filter", False))
-    return dict(spectrum=idb["lightfade_spectrum"], hours_per_day=schedule.hours_per_day,
-                days_per_year=schedule.days_per_year, uv_filter=schedule.uv_filter)
-
-
-def apply_tags(scene):
-    """Map the scene's custom tags to LightFade settings.
-
-    - A material with ``mat["lightfade_recipe"]`` gets ``Material.lightfade.enabled``, the
-      recipe and, if tagged, ``mat["lightfade_blue_wool"]`` (set after the recipe, whose
-      update callback resets the class to the recipe's own); untagged materials are left off.
-    - Lights, the world and meshes with ``lightfade_spectrum`` get their schedule from
-      ``lightfade_spectrum`` / ``_hours_per_day`` / ``_uv_filter`` (and ``_days_per_year``,
-      default 365). Untagged emitters are excluded from aging: in these scenes every
-      light that belongs to the room's history is tagged (the room's sky through the
-      window is tagged daylight-glass, 10 h a day, so it counts).
-
-    Returns
-    -------
-    dict
-        ``materials`` {name: {recipe, blue_wool}} and ``emitters`` {name: schedule or None}.
-    """
-    from lightfade_addon.blender.properties import RECIPE_IDS, SPECTRUM_IDS
-
-    recipe_enum = {v: k for k, v in RECIPE_IDS.items()}
-    spectrum_enum = {v: k for k, v in SPECTRUM_IDS.items()}
-    out = dict(materials={}, emitters={})
-    materials = []
-    for obj in scene.objects:
-        for slot in getattr(obj, "material_slots", ()):
-            if slot.material is not None and slot.material not in materials:
-                materials.append(slot.material)
-    for mat in materials:
-        props = mat.lightfade
-        if "lightfade_recipe" not in mat:
-            props.enabled = False
-            continue
-        props.enabled = True
-        props.recipe = recipe_enum[mat["lightfade_recipe"]]
-        props.sensitivity_mode = "BLUE_WOOL"
-        if "lightfade_blue_wool" in mat:
-            props.blue_wool = int(mat["lightfade_blue_wool"])
-        out["materials"][mat.name] = dict(recipe=mat["lightfade_recipe"], blue_wool=props.blue_wool)
-    for obj in scene.objects:
-        if obj.type == "LIGHT":
-            out["emitters"][obj.name] = _schedule_from_tags(obj.data.lightfade, obj.data, spectrum_enum)
-        elif obj.type == "MESH" and "lightfade_spectrum" in obj:
-            out["emitters"][obj.name] = _schedule_from_tags(obj.lightfade_emitter, obj, spectrum_enum)
-        elif obj.type == "MESH":
-            obj.lightfade_emitter.enabled = False
-    if scene.world is not None:
-        out["emitters"]["World"] = _schedule_from_tags(scene.world.lightfade, scene.world, spectrum_enum)
-    return out
-
-
-# ----------------------------------------------------------------------- doses and labels
-
-
-def annual_doses(scene):
-    """{object name: (H, W) lux·h per year} from the baked maps and the emitters' schedules."""
-    from lightfade_addon.blender.exposure import lights_and_exposure
-
-    doses = {}
-    for obj in scene.objects:
-        if obj.type != "MESH" or not len(obj.lightfade.exposure_maps):
-            continue
-        first = next((m.image for m in obj.lightfade.exposure_maps if m.image is not None), None)
-        if first is None:
-            continue
-        shape = tuple(first.size)[::-1]
-        lights, maps = lights_and_exposure(scene, obj, shape)
-        doses[obj.name] = sum(light.annual_dose * m for light, m in zip(lights, maps))
-    return doses
-
-
-def peak_annual_dose(doses):
-    """The dose rate (lux·h a year) at the brightest point: 99.9th percentile of all texels."""
-    if not doses:
-        return 0.0
-    return float(np.percentile(np.concatenate([d.ravel() for d in doses.values()]), 99.9))
-
-
-def years_label(years):
-    if years == 0:
-        return "0 years"
-    if years < 1 / 12 - 1e-9:
-        d = round(years * 365)
-        return f"{d} day{'s' * (d != 1)}"
-    if years < 1 - 1e-9:
-        m = round(years * 12)
-        return f"{m} month{'s' * (m != 1)}"
-    return f"{years:g} year{'s' * (years != 1)}"
-
-
-def years_slug(years):
-    if years == 0 or years >= 1 - 1e-9:
-        return f"{years:g}y"
-    if years < 1 / 12 - 1e-9:
-        return f"{round(years * 365)}d"
-    return f"{round(years * 12)}mo"
-
-
-def dose_label(mlxh):
-    if mlxh == 0:
-        return ""
-    if mlxh < 10:
-        return f"peak {mlxh:.2g} Mlx·h"
-    return f"peak {mlxh:,.0f} Mlx·h"
-
-
-# ----------------------------------------------------------------------- images (Pillow)
-
-
-def _font(size):
-    from PIL import ImageFont
-
-    try:
-        from matplotlib import font_manager
-
-        return ImageFont.truetype(font_manager.findfont("DejaVu Sans"), size)
-    except Exception:  # noqa: BLE001 - any font will do
-        return ImageFont.load_default()
-
-
-def labelled(path, label, sublabel="", bar=None):
-    """The image at ``path`` with a caption bar under it."""
-    from PIL import Image, ImageDraw
-
-    im = Image.open(path).convert("RGB")
-    w, h = im.size
-    bar = bar or max(16, int(0.11 * h))
-    out = Image.new("RGB", (w, h + bar), (24, 24, 24))
-    out.paste(im, (0, 0))
-    d = ImageDraw.Draw(out)
-    size = max(9, int(bar * 0.55))
-    font = _font(size)
-    d.text((6, h + (bar - size) // 2 - 1), label, fill=(240, 240, 240), font=font)
-    if sublabel:
-        small = _font(max(8, int(size * 0.8)))
-        tw = d.textlength(sublabel, font=small)
-        d.text((w - tw - 6, h + (bar - size) // 2), sublabel, fill=(170, 170, 170), font=small)
-    return out
-
-
-def write_contact_sheet(frames, path, title="", columns=3):
-    """Frames ``[(png, label, sublabel), ...]`` at their rendered size in a grid of
-    ``columns``, labelled under each, with a title (:mod:`lightfade_addon.contact_sheet`)."""
-    from PIL import Image
-
-    from lightfade_addon.contact_sheet import contact_sheet, thumbnail
-
-    tiles = []
-    for png, _, _ in frames:
-        rgb = np.asarray(Image.open(png).convert("RGB"), np.float32) / 255.0
-        tiles.append(thumbnail(rgb, size=max(rgb.shape[:2])))
-    sheet = contact_sheet(tiles, [f[1] for f in frames], [f[2] for f in frames], title=title,
-                          columns=columns)
-    sheet.save(path, optimize=True)
-    return sheet
-
-
-def write_gif(frames, path, width=None, ms=900, hold_ms=2200):
-    """Animated GIF of labelled frames ``[(png, label, sublabel), ...]``, looping."""
-    from PIL import Image
-
-    tiles = [labelled(p, lab, sub) for p, lab, sub in frames]
-    if width and tiles[0].width > width:
-        h = round(tiles[0].height * width / tiles[0].width)
-        tiles = [t.resize((width, h), Image.LANCZOS) for t in tiles]
-    # Pillow dithers only when mapping to a given palette: make the palette, then map.
-    pal = [t.quantize(palette=t.quantize(colors=255, method=Image.Quantize.MEDIANCUT),
-                      dither=Image.Dither.FLOYDSTEINBERG) for t in tiles]
-    durations = [ms] * len(pal)
-    durations[0] = durations[-1] = hold_ms
-    pal[0].save(path, save_all=True, append_images=pal[1:], duration=durations, loop=0,
-                optimize=True, disposal=1)
-    return path
-
-
-def save_small_png(image, path, limit=DOCS_PNG_LIMIT):
-    """Save ``image`` as PNG under ``limit`` bytes: full colour, scaled down to 70 % if need
-    be (palette PNGs band on smooth walls), else 256 colours, else smaller still."""
-    from PIL import Image
-
-    image = image.convert("RGB")
-    for scale in (1.0, 0.9, 0.8, 0.7):
-        im = image if scale == 1.0 else image.resize(
-            (round(image.width * scale), round(image.height * scale)), Image.LANCZOS)
-        im.save(path, optimize=True)
-        if os.path.getsize(path) <= limit:
-            return path
-    for scale in (1.0, 0.8, 0.6, 0.4):
-        im = image if scale == 1.0 else image.resize(
-            (round(image.width * scale), round(image.height * scale)), Image.LANCZOS)
-        im.quantize(colors=256, method=Image.Quantize.FASTOCTREE,
-                    dither=Image.Dither.FLOYDSTEINBERG).save(path, optimize=True)
-        if os.path.getsize(path) <= limit:
-            return path
-    raise RuntimeError(f"could not fit {path} under {limit} bytes")
-
-
-def side_by_side(frames, width=None):
-    """Labelled frames ``[(png, label, sublabel), ...]`` in one row (each ``width`` px wide)."""
-    from PIL import Image
-
-    tiles = [labelled(p, lab, sub) for p, lab, sub in frames]
-    if width and tiles[0].width != width:
-        h = round(tiles[0].height * width / tiles[0].width)
-        tiles = [t.resize((width, h), Image.LANCZOS) for t in tiles]
-    gap = 4
-    tw, th = tiles[0].size
-    out = Image.new("RGB", (len(tiles) * tw + (len(tiles) - 1) * gap, th), (12, 12, 12))
-    for i, t in enumerate(tiles):
-        out.paste(t, (i * (tw + gap), 0))
-    return out
 
 
 # ----------------------------------------------------------------------- the room's extra view
@@ -357,7 +133,7 @@ def add_floor_camera():
 def save_blend(path):
     """Save the aged scene with every image packed.
 
-    Like :func:`scenes.common.save_blend`, except that LightFade's aged images
+    Like :func:`scenes.render.save_blend`, except that LightFade's aged images
     (``LF_Aged_*``) are left to the add-on's own ``save_pre`` handler, which packs them:
     packing them here as well would make that handler pack them a second time, and in
     bpy 5.0 ``Image.pack()`` on an already packed, unchanged float image drops its packed
@@ -430,8 +206,8 @@ def run_scene(name, out, preset, years=None, verbose=False):
         f"peak dose {peak / 1e6:.3g} Mlx·h a year")
 
     # render the years
-    C.configure_render(scene, *preset["size"], samples=preset["samples"])
-    C.apply_view_settings(scene, info["view"])
+    configure_render(scene, *preset["size"], samples=preset["samples"])
+    apply_view_settings(scene, info["view"])
     main_cam = info["camera"]
     groups = {"years": [], "reveal": [], "dresser": [], "floor": []}
     renders, set_times = [], []
@@ -445,7 +221,7 @@ def run_scene(name, out, preset, years=None, verbose=False):
     def shot(group, fname, camera, y, label=None):
         path = out / fname
         with quiet(not verbose):
-            t = C.render_still(str(path), camera=camera, scene=scene)
+            t = render_still(str(path), camera=camera, scene=scene)
         renders.append(t)
         groups[group].append((str(path), label or years_label(y), dose_label(peak * y / 1e6)))
         log(f"{name}: {years_label(y):>9} -> {path.name} ({t:.1f} s)")
@@ -505,45 +281,6 @@ def run_scene(name, out, preset, years=None, verbose=False):
         f"{timings['outputs']:.1f} s; scene total {timings['total']:.1f} s")
     return dict(name=name, years=years, timings=timings, outputs=outputs, tags=tags,
                 peak_annual_dose=peak, frames=frames, reveal_frames=reveal_frames, extra=extra)
-
-
-# ----------------------------------------------------------------------- docs images
-
-
-def write_docs(results, docs=DOCS_IMG):
-    """Small images for the README: before/after/reveal strips, contact sheets, the GIF."""
-    docs = Path(docs)
-    docs.mkdir(parents=True, exist_ok=True)
-    written = []
-    r = results.get("room")
-    if r:
-        strip = [r["frames"][0], r["frames"][-1], *r["reveal_frames"]]
-        p = docs / "demo_room_before_after.png"
-        save_small_png(side_by_side(strip, width=480), p)
-        written.append(p)
-        dresser = r["extra"].get("Camera.Dresser", [])
-        if dresser:
-            p = docs / "demo_dresser.png"
-            save_small_png(side_by_side(dresser, width=400), p)
-            written.append(p)
-        floor = r["extra"].get("Camera.Floor", [])
-        if floor:
-            p = docs / "demo_floor.png"
-            save_small_png(side_by_side(floor, width=400), p)
-            written.append(p)
-        p = docs / "demo.gif"
-        write_gif(r["frames"] + r["reveal_frames"], p, width=DOCS_GIF_WIDTH)
-        if os.path.getsize(p) > DOCS_GIF_LIMIT:
-            write_gif(r["frames"] + r["reveal_frames"], p, width=DOCS_GIF_WIDTH // 2)
-        written.append(p)
-    for name in ("gallery", "swatches"):
-        s = results.get(name)
-        if s:
-            p = docs / f"demo_{name}.png"
-            strip = [s["frames"][0], s["frames"][len(s["frames"]) // 2], s["frames"][-1], *s["reveal_frames"]]
-            save_small_png(side_by_side(strip, width=360), p)
-            written.append(p)
-    return written
 
 
 # ----------------------------------------------------------------------- CLI

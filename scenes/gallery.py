@@ -14,8 +14,11 @@ import math
 
 import bpy
 
+from . import cli
 from . import common as C
 from . import textures as T
+from .meshes import box_quads, grid_mesh, mesh_from_quads
+from .render import configure_render, save_blend, view_settings
 
 WALL_Y = 0.0  # the wall's face; the room is at y < 0
 PRINT_SIZE = (0.56, 0.78)
@@ -65,9 +68,9 @@ def build(path=None, resolution=512):
     lights = C.collection("Lights")
 
     wall = C.plain_material("Wall_Paint", (0.16, 0.17, 0.20), 0.9)
-    C.mesh_from_quads("Wall", C.box_quads((-4, WALL_Y, 0), (4, WALL_Y + 0.2, 3.4)), room, wall)
-    C.mesh_from_quads("Floor", C.box_quads((-4, -5, -0.1), (4, WALL_Y, 0)), room,
-                      C.plain_material("Floor_Stone", (0.25, 0.24, 0.22), 0.6))
+    mesh_from_quads("Wall", box_quads((-4, WALL_Y, 0), (4, WALL_Y + 0.2, 3.4)), room, wall)
+    mesh_from_quads("Floor", box_quads((-4, -5, -0.1), (4, WALL_Y, 0)), room,
+                    C.plain_material("Floor_Stone", (0.25, 0.24, 0.22), 0.6))
     frame_mat = C.plain_material("Frame_Black", (0.02, 0.02, 0.02), 0.4)
     label_mat = C.plain_material("Label_Ink", (0.7, 0.7, 0.7), 0.6)
 
@@ -78,17 +81,17 @@ def build(path=None, resolution=512):
         img = C.image_from_array(f"Print_{suffix}", picture)
         mat = C.aging_material(f"Print_{suffix}", img, "printed-paper", blue_wool=2, roughness=0.5, specular=0.3)
         y = WALL_Y - 0.022
-        ob = C.grid_mesh(f"Print.{suffix}", 1, 1,
-                         lambda u, v, x=x, y=y: (x + (u - 0.5) * w, y, PRINT_Z + (v - 0.5) * h), art, mat)
+        ob = grid_mesh(f"Print.{suffix}", 1, 1,
+                       lambda u, v, x=x, y=y: (x + (u - 0.5) * w, y, PRINT_Z + (v - 0.5) * h), art, mat)
         prints.append(ob.name)
         # a black frame 4 cm wide, 2.5 cm deep, around the print
         f = 0.04
         lo, hi = (x - w / 2 - f, PRINT_Z - h / 2 - f), (x + w / 2 + f, PRINT_Z + h / 2 + f)
         bars = [((lo[0], lo[1]), (hi[0], lo[1] + f)), ((lo[0], hi[1] - f), (hi[0], hi[1])),
                 ((lo[0], lo[1]), (lo[0] + f, hi[1])), ((hi[0] - f, lo[1]), (hi[0], hi[1]))]
-        C.mesh_from_quads(f"Frame.{suffix}", [q for (a, b) in bars for q in
-                                              C.box_quads((a[0], WALL_Y - 0.025, a[1]), (b[0], WALL_Y, b[1]))],
-                          art, frame_mat)
+        mesh_from_quads(f"Frame.{suffix}", [q for (a, b) in bars for q in
+                                            box_quads((a[0], WALL_Y - 0.025, a[1]), (b[0], WALL_Y, b[1]))],
+                        art, frame_mat)
         _label(f"Label.{suffix}", text, (x, WALL_Y - 0.002, PRINT_Z - h / 2 - 0.14), art, label_mat)
         # Spot on the ceiling track aimed at the print centre; power from the intended lux:
         # E = P cos(theta) / (4 pi d^2) W/m^2, 683 lux per W/m^2.
@@ -112,17 +115,17 @@ def build(path=None, resolution=512):
 
     cam = C.add_camera("Camera", (0.0, -4.2, 1.55), (0.0, WALL_Y, 1.4), lens=34.0)
     scene.camera = cam
-    C.configure_render(scene)
+    configure_render(scene)
     scene.view_settings.exposure = 4.0
     scene.view_settings.look = "AgX - Medium High Contrast"
 
     info = dict(scene=scene.name, camera=cam.name, cameras=[cam.name], prints=prints, spots=spots,
                 lux=lux, lights=spots, materials=sorted(m.name for m in C.tagged_materials()),
-                view=C.view_settings(scene))
+                view=view_settings(scene))
     if path:
-        C.save_blend(path)
+        save_blend(path)
     return info
 
 
 if __name__ == "__main__":
-    C.main(build, __doc__.splitlines()[0], default_resolution=512)
+    cli.main(build, __doc__.splitlines()[0], default_resolution=512)

@@ -26,7 +26,9 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
+from . import cli
 from . import common as C
+from .render import configure_render, save_blend, view_settings
 
 KINDS = ("image", "tiled", "procedural", "adjusted", "grouped", "attribute", "shared",
          "duplicates")
@@ -223,13 +225,13 @@ def build(path=None, resolution=64):
     scene.camera = camera
     for obj in bpy.context.view_layer.objects:
         obj.select_set(False)
-    C.configure_render(scene, 640, 400, samples=16)
+    configure_render(scene, 640, 400, samples=16)
     info = dict(plates=plates, materials=materials, camera=camera.name,
-                view=C.view_settings(scene))
+                view=view_settings(scene))
     if path:
-        C.save_blend(path)
+        save_blend(path)
     return info
 
 
 if __name__ == "__main__":
-    C.main(build, __doc__.splitlines()[0], default_resolution=64)
+    cli.main(build, __doc__.splitlines()[0], default_resolution=64)

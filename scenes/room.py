@@ -16,8 +16,11 @@ import math
 
 import bpy
 
+from . import cli
 from . import common as C
 from . import textures as T
+from .meshes import box_quads, grid_mesh, lathe_mesh, mesh_from_quads
+from .render import configure_render, save_blend, view_settings
 
 ROOM = dict(x=(-2.0, 2.0), y=(-2.0, 2.0), height=2.6, wall=0.15)
 WINDOW = dict(y=(-0.4, 1.5), z=(0.45, 2.3))  # opening in the x = -2 wall
@@ -45,10 +48,10 @@ def _walls(coll):
         ((x0 - t, wy0, 0), (x0, wy1, wz0)),
         ((x0 - t, wy0, wz1), (x0, wy1, H)),
     ]
-    quads = [q for lo, hi in boxes for q in C.box_quads(lo, hi)]
-    walls = C.mesh_from_quads("Walls", quads, coll, C.plain_material("Wall_Paint", (0.62, 0.58, 0.50), 0.9))
-    ceiling = C.mesh_from_quads(
-        "Ceiling", C.box_quads((x0 - t, y0 - t, H), (x1 + t, y1 + t, H + t)), coll,
+    quads = [q for lo, hi in boxes for q in box_quads(lo, hi)]
+    walls = mesh_from_quads("Walls", quads, coll, C.plain_material("Wall_Paint", (0.62, 0.58, 0.50), 0.9))
+    ceiling = mesh_from_quads(
+        "Ceiling", box_quads((x0 - t, y0 - t, H), (x1 + t, y1 + t, H + t)), coll,
         C.plain_material("Ceiling_Paint", (0.75, 0.74, 0.70), 0.9))
     # window frame: outer frame, one vertical and one horizontal bar (painted white)
     f, d = 0.05, 0.06
@@ -61,8 +64,8 @@ def _walls(coll):
         ((xm - d / 2, (wy0 + wy1) / 2 - f / 2, wz0), (xm + d / 2, (wy0 + wy1) / 2 + f / 2, wz1)),
         ((xm - d / 2, wy0, wz0 + 0.62 * (wz1 - wz0)), (xm + d / 2, wy1, wz0 + 0.62 * (wz1 - wz0) + f)),
     ]
-    frame_ob = C.mesh_from_quads("WindowFrame", [q for lo, hi in frame for q in C.box_quads(lo, hi)],
-                                 coll, C.plain_material("Frame_Paint", (0.8, 0.8, 0.78), 0.5))
+    frame_ob = mesh_from_quads("WindowFrame", [q for lo, hi in frame for q in box_quads(lo, hi)],
+                               coll, C.plain_material("Frame_Paint", (0.8, 0.8, 0.78), 0.5))
     return walls, ceiling, frame_ob
 
 
@@ -72,7 +75,7 @@ def _floor(coll, res):
     img = C.image_from_array("Floor_Oak", T.wood_planks((res, res), extent=(x1 - x0, y1 - y0),
                                                         base=FLOOR_TONES[0], dark=FLOOR_TONES[1]))
     mat = C.aging_material("Floor_Oak", img, "bare-wood", roughness=0.45, specular=0.4)
-    return C.grid_mesh("Floor", 1, 1, lambda u, v: (x0 + u * (x1 - x0), y0 + v * (y1 - y0), 0.0), coll, mat)
+    return grid_mesh("Floor", 1, 1, lambda u, v: (x0 + u * (x1 - x0), y0 + v * (y1 - y0), 0.0), coll, mat)
 
 
 def _rug(coll, res):
@@ -80,7 +83,7 @@ def _rug(coll, res):
     img = C.image_from_array("Rug_Wool", T.rug((int(res * h / w), res)))
     mat = C.aging_material("Rug_Wool", img, "dyed-fabric", blue_wool=4, roughness=0.95, specular=0.2, sheen=0.4)
     z = RUG["height"]
-    return C.grid_mesh("Rug", 1, 1, lambda u, v: (cx + (u - 0.5) * w, cy + (v - 0.5) * h, z), coll, mat)
+    return grid_mesh("Rug", 1, 1, lambda u, v: (cx + (u - 0.5) * w, cy + (v - 0.5) * h, z), coll, mat)
 
 
 def _dresser(coll, res):
@@ -100,14 +103,14 @@ def _dresser(coll, res):
         boxes.append(((x0 + margin, y0 - 0.015, z0), (x1 - margin, y0, z0 + dh), ("+y",)))
         for kx in (x0 + 0.3 * (x1 - x0), x0 + 0.7 * (x1 - x0)):
             knobs.append((kx, y0 - 0.015, z0 + dh / 2))
-    quads = [q for lo, hi, skip in boxes for q in C.box_quads(lo, hi, skip)]
+    quads = [q for lo, hi, skip in boxes for q in box_quads(lo, hi, skip)]
     img = C.image_from_array("Dresser_Paint", T.painted_wood((res, res), (0.10, 0.47, 0.50)))
     mat = C.aging_material("Dresser_Paint", img, "painted-wood", blue_wool=4, roughness=0.4, specular=0.5)
-    dresser = C.mesh_from_quads("Dresser", quads, coll, mat, gap=4.0 / res)
+    dresser = mesh_from_quads("Dresser", quads, coll, mat, gap=4.0 / res)
     brass = C.plain_material("Brass", (0.8, 0.55, 0.25), 0.3, metallic=1.0)
     for k, (kx, ky, kz) in enumerate(knobs):
-        ob = C.lathe_mesh(f"DresserKnob.{k}", [(0, 0), (0.008, 0.002), (0.008, 0.012), (0.015, 0.018),
-                                                (0.012, 0.03), (0, 0.032)], 16, coll, brass)
+        ob = lathe_mesh(f"DresserKnob.{k}", [(0, 0), (0.008, 0.002), (0.008, 0.012), (0.015, 0.018),
+                                              (0.012, 0.03), (0, 0.032)], 16, coll, brass)
         ob.location = (kx, ky, kz)
         ob.rotation_euler = (math.pi / 2, 0, 0)  # knob axis along -y, out of the drawer
     return dresser
@@ -118,12 +121,12 @@ def _lamp(coll):
     x, y = LAMP_XY
     z = DRESSER["height"]
     ceramic = C.plain_material("Lamp_Ceramic", (0.55, 0.12, 0.08), 0.25)
-    base = C.lathe_mesh("LampBase", [(0, 0), (0.085, 0), (0.085, 0.02), (0.06, 0.04), (0.07, 0.12),
-                                      (0.05, 0.2), (0.015, 0.24), (0, 0.24)], 48, coll, ceramic, (x, y, z))
-    stem = C.lathe_mesh("LampStem", [(0, 0.24), (0.008, 0.24), (0.008, 0.42), (0, 0.42)], 16, coll,
-                        C.plain_material("Lamp_Brass", (0.8, 0.6, 0.3), 0.3, metallic=1.0), (x, y, z))
+    base = lathe_mesh("LampBase", [(0, 0), (0.085, 0), (0.085, 0.02), (0.06, 0.04), (0.07, 0.12),
+                                    (0.05, 0.2), (0.015, 0.24), (0, 0.24)], 48, coll, ceramic, (x, y, z))
+    stem = lathe_mesh("LampStem", [(0, 0.24), (0.008, 0.24), (0.008, 0.42), (0, 0.42)], 16, coll,
+                      C.plain_material("Lamp_Brass", (0.8, 0.6, 0.3), 0.3, metallic=1.0), (x, y, z))
     shade_mat = C.plain_material("Lamp_Shade", (0.85, 0.78, 0.62), 0.9)
-    shade = C.lathe_mesh("LampShade", [(0.17, 0.30), (0.11, 0.50)], 48, coll, shade_mat, (x, y, z))
+    shade = lathe_mesh("LampShade", [(0.17, 0.30), (0.11, 0.50)], 48, coll, shade_mat, (x, y, z))
     # An 800 lm incandescent bulb: 800 lm / 683 lm/W ~ 1.2 W in LightFade's convention, i.e.
     # ~700 lux on the dresser top 0.3 m away, ~80 lux at 1 m; on 5 hours a day.
     bulb = C.add_light("Lamp", "POINT", 800.0 / C.LUX_PER_W_M2, (x, y, z + 0.38), coll,
@@ -138,7 +141,7 @@ def _poster(coll, res):
     img = C.image_from_array("Poster_Print", T.poster((res, int(res * w / h))))
     mat = C.aging_material("Poster_Print", img, "printed-paper", blue_wool=2, roughness=0.5, specular=0.3)
     # u along +x, v up; the sheet faces -y (into the room)
-    return C.grid_mesh("Poster", 1, 1, lambda u, v: (cx + (u - 0.5) * w, y, cz + (v - 0.5) * h), coll, mat)
+    return grid_mesh("Poster", 1, 1, lambda u, v: (cx + (u - 0.5) * w, y, cz + (v - 0.5) * h), coll, mat)
 
 
 def _curtain(coll, res):
@@ -152,10 +155,10 @@ def _curtain(coll, res):
     def fn(u, v):
         return (x + 0.035 * math.sin(u * 2 * math.pi * 7), ya + u * (yb - ya), z0 + v * (z1 - z0))
 
-    ob = C.grid_mesh("Curtain", 56, 1, fn, coll, mat, smooth=True)
-    rod = C.lathe_mesh("CurtainRod", [(0, 0), (0.012, 0), (0.012, 2.6), (0, 2.6)], 12, coll,
-                       C.plain_material("Rod_Metal", (0.1, 0.1, 0.1), 0.4, metallic=1.0),
-                       (x, ya - 0.1, 2.5))
+    ob = grid_mesh("Curtain", 56, 1, fn, coll, mat, smooth=True)
+    rod = lathe_mesh("CurtainRod", [(0, 0), (0.012, 0), (0.012, 2.6), (0, 2.6)], 12, coll,
+                     C.plain_material("Rod_Metal", (0.1, 0.1, 0.1), 0.4, metallic=1.0),
+                     (x, ya - 0.1, 2.5))
     rod.rotation_euler = (-math.pi / 2, 0, 0)  # along +y
     return ob
 
@@ -216,7 +219,7 @@ def build(path=None, resolution=1024):
     detail = C.add_camera("Camera.Dresser", (0.35, 0.05, 1.55), (-0.85, 1.70, 0.80), lens=30.0)
     scene.camera = cam
 
-    C.configure_render(scene)
+    configure_render(scene)
     scene.view_settings.exposure = -2.0
     scene.view_settings.look = "AgX - Medium High Contrast"
 
@@ -234,12 +237,12 @@ def build(path=None, resolution=1024):
         curtain=curtain.name,
         removable=sorted(o.name for o in C.collection_objects(removable)),
         materials=sorted(m.name for m in C.tagged_materials()),
-        view=C.view_settings(scene),
+        view=view_settings(scene),
     )
     if path:
-        C.save_blend(path)
+        save_blend(path)
     return info
 
 
 if __name__ == "__main__":
-    C.main(build, __doc__.splitlines()[0])
+    cli.main(build, __doc__.splitlines()[0])

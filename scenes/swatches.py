@@ -11,8 +11,11 @@ from __future__ import annotations
 
 import bpy
 
+from . import cli
 from . import common as C
 from . import textures as T
+from .meshes import box_quads, grid_mesh, mesh_from_quads
+from .render import configure_render, save_blend, view_settings
 
 SHEET = (1.2, 0.42)  # width, height in metres; the sheet's centre is at the origin, facing -y
 CARD_GAP = 0.005  # card distance in front of the sheet
@@ -50,17 +53,17 @@ def build(path=None, resolution=1024):
     lights = C.collection("Lights")
 
     w, h = SHEET
-    board = C.mesh_from_quads("Board", C.box_quads((-0.75, 0.001, -0.35), (0.75, 0.03, 0.35)), stand,
-                              C.plain_material("Board_Grey", (0.05, 0.05, 0.05), 0.8))
+    board = mesh_from_quads("Board", box_quads((-0.75, 0.001, -0.35), (0.75, 0.03, 0.35)), stand,
+                            C.plain_material("Board_Grey", (0.05, 0.05, 0.05), 0.8))
     img = C.image_from_array("Chart_Print", T.colour_chart((int(resolution * h / w), resolution), copies=2))
     mat = C.aging_material("Chart_Print", img, "printed-paper", blue_wool=3, roughness=0.5, specular=0.3)
-    chart = C.grid_mesh("Chart", 1, 1, lambda u, v: ((u - 0.5) * w, 0.0, (v - 0.5) * h), stand, mat)
+    chart = grid_mesh("Chart", 1, 1, lambda u, v: ((u - 0.5) * w, 0.0, (v - 0.5) * h), stand, mat)
     # the card: 2 mm grey board over the right half (x >= 0) with a 2 cm overlap outside the sheet
-    card = C.mesh_from_quads("Card", C.box_quads((0.0, -CARD_GAP - 0.002, -h / 2 - 0.02),
-                                                 (w / 2 + 0.02, -CARD_GAP, h / 2 + 0.02)),
-                             removable, C.plain_material("Card_Grey", (0.12, 0.115, 0.11), 0.9))
-    C.mesh_from_quads("Backdrop", C.box_quads((-3, 0.03, -2), (3, 0.1, 2)), stand,
-                      C.plain_material("Backdrop", (0.02, 0.02, 0.02), 0.9))
+    card = mesh_from_quads("Card", box_quads((0.0, -CARD_GAP - 0.002, -h / 2 - 0.02),
+                                             (w / 2 + 0.02, -CARD_GAP, h / 2 + 0.02)),
+                           removable, C.plain_material("Card_Grey", (0.12, 0.115, 0.11), 0.9))
+    mesh_from_quads("Backdrop", box_quads((-3, 0.03, -2), (3, 0.1, 2)), stand,
+                    C.plain_material("Backdrop", (0.02, 0.02, 0.02), 0.9))
 
     direction = C.sun_direction(SUN_ELEVATION, 90.0)  # travels toward +y, downward
     strength = C.sun_strength_for_lux(SHEET_LUX, 90.0 - SUN_ELEVATION)  # sheet normal is -y
@@ -76,7 +79,7 @@ def build(path=None, resolution=1024):
     # A colour chart is judged by its patch colours: use the Standard (sRGB) view, whose
     # tone curve does not desaturate bright patches as AgX does. Paper under 50 klx renders
     # at ~21 (white Lambertian radiance E / pi); 2^-4.7 brings it to ~0.8.
-    C.configure_render(scene, view_transform="Standard")
+    configure_render(scene, view_transform="Standard")
     scene.view_settings.exposure = -4.7
     scene.view_settings.look = "None"
 
@@ -84,11 +87,11 @@ def build(path=None, resolution=1024):
                 board=board.name, sun=sun.name, lights=[sun.name],
                 removable=sorted(o.name for o in C.collection_objects(removable)),
                 series=list(T.CHART_SERIES), levels=[round(float(x), 2) for x in T.CHART_LEVELS],
-                materials=sorted(m.name for m in C.tagged_materials()), view=C.view_settings(scene))
+                materials=sorted(m.name for m in C.tagged_materials()), view=view_settings(scene))
     if path:
-        C.save_blend(path)
+        save_blend(path)
     return info
 
 
 if __name__ == "__main__":
-    C.main(build, __doc__.splitlines()[0])
+    cli.main(build, __doc__.splitlines()[0])

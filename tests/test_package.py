@@ -125,6 +125,12 @@ def test_shell_modules_are_small():
     assert not big
 
 
+def test_scene_scripts_are_small():
+    """One job per module in the scripted demo scenes too."""
+    big = [p.name for p in (ROOT / "scenes").glob("*.py") if len(p.read_text().splitlines()) > 400]
+    assert not big
+
+
 #: A process without Blender: imports the package, its core and the command line, and
 #: runs ``lightfade info``; prints the Blender modules loaded before and after, then the
 #: command's status and output.

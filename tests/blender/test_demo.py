@@ -21,7 +21,7 @@ bpy = pytest.importorskip("bpy")
 import addon_utils  # noqa: E402
 from PIL import Image  # noqa: E402
 
-from scenes import demo  # noqa: E402
+from scenes import demo, demo_figures, tags as demo_tags  # noqa: E402
 
 pytestmark = pytest.mark.blender
 
@@ -44,8 +44,8 @@ def test_writes_frames_contact_sheet_gif_and_blend(quick_room):
     out, result = quick_room
     years = demo.SCENES["room"]["quick_years"]
     for y in years:
-        assert (out / f"room_{demo.years_slug(y)}.png").is_file()
-    assert (out / f"room_reveal_{demo.years_slug(years[-1])}.png").is_file()
+        assert (out / f"room_{demo_figures.years_slug(y)}.png").is_file()
+    assert (out / f"room_reveal_{demo_figures.years_slug(years[-1])}.png").is_file()
     assert (out / "room_dresser_reveal_25y.png").is_file()
     assert (out / "contact_room.png").is_file()
     gif = Image.open(out / "room.gif")
@@ -103,7 +103,7 @@ def test_tags_become_lightfade_settings_on_a_small_room(blender):
     addon_utils.disable(demo.ADDON, default_set=True)     # as demo.run_scene: build
     room.build(resolution=32)                             # (a factory reset), then enable
     addon_utils.enable(demo.ADDON, default_set=True)
-    tags = demo.apply_tags(bpy.context.scene)
+    tags = demo_tags.apply_tags(bpy.context.scene)
     assert tags["materials"]["Rug_Wool"] == {"recipe": "dyed-fabric", "blue_wool": 4}
     assert tags["materials"]["Floor_Oak"]["recipe"] == "bare-wood"
     assert tags["emitters"]["Sun"]["spectrum"] == "daylight-glass"
@@ -117,9 +117,9 @@ def test_tags_become_lightfade_settings_on_a_small_room(blender):
 
 
 def test_labels():
-    assert demo.years_label(0) == "0 years"
-    assert demo.years_label(1) == "1 year"
-    assert demo.years_label(7 / 365) == "7 days"
-    assert demo.years_label(0.25) == "3 months"
-    assert demo.years_slug(25) == "25y"
-    assert demo.years_slug(1 / 12) == "1mo"
+    assert demo_figures.years_label(0) == "0 years"
+    assert demo_figures.years_label(1) == "1 year"
+    assert demo_figures.years_label(7 / 365) == "7 days"
+    assert demo_figures.years_label(0.25) == "3 months"
+    assert demo_figures.years_slug(25) == "25y"
+    assert demo_figures.years_slug(1 / 12) == "1mo"

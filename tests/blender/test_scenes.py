@@ -18,6 +18,7 @@ if str(ROOT) not in sys.path:
 bpy = pytest.importorskip("bpy")
 from mathutils import Vector  # noqa: E402
 
+from scenes import cli, meshes, render  # noqa: E402
 from scenes import common as C  # noqa: E402
 from scenes import gallery, room, swatches, textures as T  # noqa: E402
 
@@ -155,7 +156,7 @@ class TestMaterials:
         """The checker above must see two faces stacked on the same UV island."""
         C.reset()
         quad = ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0))
-        ob = C.mesh_from_quads("Two", [quad, quad])
+        ob = meshes.mesh_from_quads("Two", [quad, quad])
         assert _uv_coverage(ob.data).max() == 1
         ob.data.uv_layers.active.data.foreach_set("uv", np.tile([0, 0, 1, 0, 1, 1, 0, 1], 2).astype(np.float32))
         assert _uv_coverage(ob.data).max() == 2
@@ -270,7 +271,7 @@ class TestSave:
 
     def test_cli_builds_and_saves(self, tmp_path):
         path = tmp_path / "gallery.blend"
-        info = C.main(gallery.build, "gallery", [str(path), "--resolution", "32"])
+        info = cli.main(gallery.build, "gallery", [str(path), "--resolution", "32"])
         assert path.exists() and info["prints"]
 
 
@@ -280,9 +281,9 @@ class TestRender:
 
         room.build(resolution=64)
         scene = bpy.context.scene
-        C.configure_render(scene, 64, 40, samples=4)
+        render.configure_render(scene, 64, 40, samples=4)
         out = tmp_path / "room.png"
-        C.render_still(str(out))
+        render.render_still(str(out))
         px = np.asarray(Image.open(out).convert("RGB"), dtype=np.float32) / 255
         assert px.shape == (40, 64, 3)
         assert px.mean() > 0.05
@@ -312,7 +313,7 @@ class TestTextures:
 
     def test_pack_rectangles_do_not_overlap(self):
         sizes = [(1.2, 0.5), (0.5, 0.85), (0.05, 0.12), (1.2, 0.85), (0.3, 0.3)] * 3
-        offsets, s = C.pack_rectangles(sizes, gap=0.01)
+        offsets, s = meshes.pack_rectangles(sizes, gap=0.01)
         rects = [(u, v, u + w * s, v + h * s) for (u, v), (w, h) in zip(offsets, sizes)]
         for i, a in enumerate(rects):
             assert a[0] >= 0 and a[1] >= 0 and a[2] <= 1 and a[3] <= 1
