@@ -24,6 +24,7 @@ import io
 import json
 import os
 import sys
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -149,11 +150,14 @@ def real_processes(src, jobs, folder):
     error through ``blender -c lightfade``.  ``{name: (folder, process)}``."""
     runs = {"info --json": ("python -m", ("info", "good.blend", "missing.blend", "--json")),
             "usage error": ("blender -c", ("bake", "good.blend", "--resolution", "3"))}
-    out = {}
-    for name, (entry, args) in runs.items():
+
+    def one(name):
+        entry, args = runs[name]
         work = copy_scenes(src, folder / name.split()[0])
-        out[name] = work, PROCESSES[entry](*args, cwd=work, run=jobs.run)
-    return out
+        return work, PROCESSES[entry](*args, cwd=work, run=jobs.run)
+
+    with ThreadPoolExecutor(len(runs)) as pool:                 # side by side
+        return dict(zip(runs, pool.map(one, runs)))
 
 
 @contextlib.contextmanager
