@@ -18,6 +18,18 @@ def denoiser_available():
     return bool(getattr(_cycles, "with_openimagedenoise", False))
 
 
+#: Cycles settings of every demo render: CPU, a fixed seed (reproducible renders),
+#: adaptive sampling and light paths tuned for the demo interiors.
+CYCLES_SETTINGS = dict(
+    device="CPU", use_adaptive_sampling=True, adaptive_threshold=0.02,
+    adaptive_min_samples=0, seed=0, use_animated_seed=False,
+    max_bounces=4, diffuse_bounces=3, glossy_bounces=1, transmission_bounces=2,
+    transparent_max_bounces=4, volume_bounces=0,
+    caustics_reflective=False, caustics_refractive=False, blur_glossy=1.0,
+    sample_clamp_direct=0.0, sample_clamp_indirect=10.0, use_light_tree=True,
+)
+
+
 def configure_render(scene, width=640, height=400, samples=32, engine="CYCLES", *,
                      denoise=True, view_transform="AgX"):
     """Set resolution, engine and CPU Cycles light paths tuned for the demo interiors.
@@ -36,25 +48,8 @@ def configure_render(scene, width=640, height=400, samples=32, engine="CYCLES", 
     scene.render.film_transparent = False
     if engine == "CYCLES":
         cy = scene.cycles
-        cy.device = "CPU"
-        cy.samples = samples
-        cy.use_adaptive_sampling = True
-        cy.adaptive_threshold = 0.02
-        cy.adaptive_min_samples = 0
-        cy.seed = 0
-        cy.use_animated_seed = False
-        cy.max_bounces = 4
-        cy.diffuse_bounces = 3
-        cy.glossy_bounces = 1
-        cy.transmission_bounces = 2
-        cy.transparent_max_bounces = 4
-        cy.volume_bounces = 0
-        cy.caustics_reflective = False
-        cy.caustics_refractive = False
-        cy.blur_glossy = 1.0
-        cy.sample_clamp_direct = 0.0
-        cy.sample_clamp_indirect = 10.0
-        cy.use_light_tree = True
+        for name, value in {**CYCLES_SETTINGS, "samples": samples}.items():
+            setattr(cy, name, value)
         use_dn = denoise and denoiser_available()
         cy.use_denoising = use_dn
         if use_dn:
