@@ -11,7 +11,8 @@ add-on must be enabled (its properties are registered by ``register()``)::
 
     api.bake(scene, quality="FINAL")                  # exposure maps (Cycles), one per light group
     api.age_scene(scene, years=10)                    # aged textures at 10 years
-    api.set_years(scene, 25)                          # scrub without re-preparing
+    api.set_years(scene, 25)                          # the materials follow: no Python per pixel
+    api.apply_aging(scene)                            # real aged images, for export
     api.material_plan(scene)                          # which path each material takes, why
     api.reset(scene)                                  # back to the original file
 
@@ -20,8 +21,8 @@ From a checkout, ``import lightfade_addon.api`` after enabling ``lightfade_addon
 
 from __future__ import annotations
 
-__all__ = ["bake", "age_scene", "set_years", "keyframe_years", "reset", "material_plan",
-           "AgingError"]
+__all__ = ["bake", "age_scene", "set_years", "keyframe_years", "apply_aging", "live_aging",
+           "reset", "material_plan", "AgingError"]
 
 
 def _bpy():
@@ -64,7 +65,7 @@ def bake(scene=None, objects=None, resolution=None, samples=None, margin=None, u
 def age_scene(scene=None, years=None, objects=(), progress=None):
     """Age the enabled materials (of ``objects``, or all) and show ``years``.
 
-    Returns the aged images (one per object and material). Raises :class:`AgingError`
+    Returns the aged materials (one per object and material). Raises :class:`AgingError`
     naming every problem found, before anything changes, when something cannot be aged.
     """
     from .blender.prepare import age_scene as _age
@@ -75,30 +76,51 @@ def age_scene(scene=None, years=None, objects=(), progress=None):
 
 
 def set_years(scene=None, years=0.0):
-    """Show ``years`` on the aged materials (fast: only the dose lookup runs).
+    """Show ``years`` on the aged materials: one write of the scene's years property,
+    which the materials evaluate themselves.
 
-    Stale materials (new bake, changed recipe or schedule) are brought up to date.
-    Raises :class:`AgingError` for years that are not a finite number >= 0, before
-    anything changes. Returns the seconds taken.
+    Stale materials (new bake, changed recipe or schedule), and materials prepared for
+    fewer years, are prepared again first (said in one line each). Raises
+    :class:`AgingError` for years that are not a finite number >= 0, before anything
+    changes. Returns the seconds taken.
     """
     from .blender.apply import update_scene
     from .blender.errors import check_years
 
     scene = _scene(scene)
-    years = check_years(years)
-    scene.lightfade.years = years
-    return update_scene(scene, years)
+    return update_scene(scene, check_years(years))
 
 
 def keyframe_years(scene=None, keys=()):
-    """Keyframe the years slider: ``keys`` is a sequence of (frame, years) pairs."""
+    """Keyframe the scene's years (the custom property ``lightfade_years`` the aged
+    materials read): ``keys`` is a sequence of (frame, years) pairs."""
     from .blender.errors import check_years
+    from .blender.years import keyframe_years as key
 
     scene = _scene(scene)
     keys = [(int(frame), check_years(years)) for frame, years in keys]
     for frame, years in keys:
-        scene.lightfade.years = years
-        scene.lightfade.keyframe_insert("years", frame=frame)
+        key(scene, frame, years)
+
+
+def apply_aging(scene=None, years=None):
+    """Real aged images (numpy evaluator of each material's aging table), wired into the
+    aged materials in place of their node groups: for export, other engines, painting.
+
+    ``years`` defaults to the scene's. Returns {aged material name: image}.
+    :func:`live_aging` puts the node groups back.
+    """
+    from .blender.apply import apply_aging as _apply
+
+    return _apply(_scene(scene), years)
+
+
+def live_aging(scene=None):
+    """Undo :func:`apply_aging`: the node groups evaluate the years again; returns how
+    many applied images were removed."""
+    from .blender.apply import live_aging as _live
+
+    return _live(_scene(scene))
 
 
 def reset(scene=None, exposure=False):

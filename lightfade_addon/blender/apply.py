@@ -1,26 +1,37 @@
-"""Years -> pixels: write each aged copy's texture for a number of years.
+"""Years in the material, and real aged images when they are wanted.
 
-The one path every consumer takes — the slider's update callback, the frame-change
-handler (keyframed years), :func:`lightfade_addon.api.set_years` and a fresh process
-rendering the saved file — so they always agree:
+Years reach every aged copy through the scene's custom property (:mod:`.years`):
+setting them costs no Python work per material. This module keeps the copies up to
+date with their inputs and writes real aged pixels on request:
 
-1. a copy whose :func:`.runtime.signature` no longer matches (a new bake, a changed
-   recipe or schedule) is prepared again from the file's data before it is shown;
-2. the dose lookup of the prepared ager (or, past its range, of a temporary one) is
-   written into the aged image, clipped to [0, 1] and finite.
+* :func:`update_scene` — the years for the whole scene (``api.set_years``): stale
+  copies (a new bake, a changed recipe or schedule) and copies whose prepared range
+  the years pass are prepared again first (:func:`refresh`), each said in one line;
+* :func:`apply_aging` — real aged images through the numpy evaluator, wired into the
+  copies in place of the node group (export, other engines, painting);
+  :func:`live_aging` puts the groups back.
 """
 
 from __future__ import annotations
 
 import time
 
+import bpy
 import numpy as np
 
-from . import runtime
-from .copies import copies_of
+from . import agingdata, runtime
+from .copies import APPLIED_NAME, GROUP_NODE, TREE_TAG, copies_of
 from .errors import AgingError, check_years
 from .exposure import exposure_shape, exposure_uv
+from .grids import purge
+from .nodes.aging import new_group
 from .pixels import write_rgba
+from .years import get_years, write_years
+from ..core.table import evaluate
+
+#: Prefix of the images :func:`apply_aging` writes.
+APPLIED_PREFIX = "LF_Applied_"
+GROUP_PREFIX = "LF_Aging_"
 
 
 def aged_copies(scene):
@@ -48,53 +59,171 @@ def needs_age(scene, copy):
     return ""
 
 
-def _state(scene, copy):
-    """The prepared state, (re)built from the file when missing or stale."""
-    state = runtime.get(copy)
-    stale = copy.lightfade.signature != runtime.signature(scene, copy)
-    if state is not None and not stale:
-        return state
-    blocked = needs_age(scene, copy) if stale else ""
+def find_nodes(tree, name, depth=0):
+    """Nodes called ``name`` in ``tree`` and the group trees inside it: [(tree, node)]."""
+    if tree is None or depth > 16:
+        return []
+    found = [(tree, tree.nodes[name])] if name in tree.nodes else []
+    for node in tree.nodes:
+        if node.type == "GROUP" and node.node_tree is not None and node.name != GROUP_NODE:
+            found += find_nodes(node.node_tree, name, depth + 1)
+    return found
+
+
+def _extension(copy):
+    """The wrap mode of the user's image on the direct path (keys follow it)."""
+    props = copy.lightfade
+    if props.path == "DIRECT" and props.albedo is not None:
+        for tree, node in ((t, n) for t, n in _image_nodes(copy.node_tree)
+                           if n.image == props.albedo):
+            return node.extension if node.extension in ("REPEAT", "EXTEND", "MIRROR") \
+                else "EXTEND"
+    return "EXTEND"
+
+
+def _image_nodes(tree, depth=0):
+    if tree is None or depth > 16:
+        return []
+    found = []
+    for node in tree.nodes:
+        if node.type == "TEX_IMAGE":
+            found.append((tree, node))
+        elif node.type == "GROUP" and node.name != GROUP_NODE:
+            found += _image_nodes(node.node_tree, depth + 1)
+    return found
+
+
+def build_group(copy):
+    """A new aging node group for the copy's current images."""
+    group = new_group(GROUP_PREFIX + copy.name, agingdata.group_spec(copy, _extension(copy)))
+    group[TREE_TAG] = True
+    return group
+
+
+def refresh(scene, copy, max_years=None):
+    """Prepare ``copy`` again from the file's data and put the new group in place."""
+    props = copy.lightfade
+    blocked = needs_age(scene, copy)
     if blocked:
-        raise AgingError(f"Material '{copy.lightfade.source.name}' on "
-                         f"'{copy.lightfade.aged_object.name}' is stale: {blocked}")
-    obj = copy.lightfade.aged_object
-    state = runtime.prepare(scene, copy, exposure_shape(obj) or (64, 64))
-    copy.lightfade.signature = runtime.signature(scene, copy)
-    return state
-
-
-def write_years(state, image, years):
-    """Age ``state`` to ``years`` into ``image`` (finite, in [0, 1])."""
-    ager = state.ager if years <= state.ager.max_years else runtime.far_ager(state, years)
-    ager.age(years, out=state.buffer)
-    rgb = state.buffer[:, :3]
-    np.nan_to_num(rgb, copy=False, nan=0.0, posinf=1.0, neginf=0.0)
-    np.clip(rgb, 0.0, 1.0, out=rgb)
-    write_rgba(image, state.buffer)
-    state.years = years
-
-
-def show(scene, copy, years, force=False):
-    """Show ``years`` on one aged copy; True if its pixels were written."""
-    state = _state(scene, copy)
-    if not force and state.years == years:
-        return False
-    write_years(state, copy.lightfade.aged_image, years)
-    return True
+        raise AgingError(f"Material '{props.source.name}' on '{props.aged_object.name}' is "
+                         f"stale: {blocked}")
+    if max_years is not None:
+        props.max_years = max_years
+    obj = props.aged_object
+    runtime.prepare(scene, copy, exposure_shape(obj) or (64, 64))
+    props.signature = runtime.signature(scene, copy)
+    group = build_group(copy)
+    for _tree, node in find_nodes(copy.node_tree, GROUP_NODE):
+        old = node.node_tree
+        node.node_tree = group
+        if old is not None and old != group and old.users == 0:
+            bpy.data.node_groups.remove(old)
+    if props.aged_image is not None:                 # applied pixels are now out of date
+        apply_copy(copy, get_years(scene))
 
 
 def update_scene(scene, years=None, report=print):
-    """Show ``years`` (default: the scene's slider) on every aged copy; seconds taken.
+    """Show ``years`` (default: the scene's) on every aged copy; seconds taken.
 
-    Stale copies are brought up to date first; one that needs Age is left as it was
-    and reported in one line.
+    Setting the years is one custom-property write. A stale copy, or one whose
+    prepared range ``years`` passes, is prepared again first (and said so); one that
+    needs Age is left as it was and reported in one line.
     """
     t0 = time.perf_counter()
-    years = check_years(scene.lightfade.years if years is None else years)
+    years = check_years(get_years(scene) if years is None else years)
+    refreshed = False
     for copy in aged_copies(scene):
+        props = copy.lightfade
+        stale = props.signature != runtime.signature(scene, copy)
+        short = years > props.max_years
+        if not (stale or short):
+            continue
         try:
-            show(scene, copy, years)
+            if short:
+                report(f"LightFade: '{props.source.name}' on '{props.aged_object.name}' was "
+                       f"prepared for {props.max_years:g} years: preparing "
+                       f"{runtime.prepared_range(years):g}")
+            refresh(scene, copy, runtime.prepared_range(years) if short else None)
         except AgingError as err:
             report(f"LightFade: {err}")
+        else:
+            refreshed = True
+    if refreshed:
+        purge(scene, {c.lightfade.grid_key for c in copies_of()})
+    write_years(scene, years)
     return time.perf_counter() - t0
+
+
+def aged_pixels(copy, years):
+    """(H, W, 4) float32 linear aged colour of ``copy`` (the numpy evaluator)."""
+    table, texels, positions, original = runtime.evaluator(copy)
+    H, W = agingdata.key_shape(copy)
+    rgba = original.reshape(H * W, 4).copy()          # zero years: the original itself
+    if years > 0:
+        evaluate(table, texels, years, positions, out=rgba)
+    return rgba.reshape(H, W, 4)
+
+
+def apply_copy(copy, years):
+    """Write ``copy``'s aged pixels at ``years`` into its applied image and wire it."""
+    props = copy.lightfade
+    H, W = agingdata.key_shape(copy)
+    image = props.aged_image
+    if image is None or tuple(image.size) != (W, H):
+        if image is not None:
+            bpy.data.images.remove(image)
+        image = bpy.data.images.new(APPLIED_PREFIX + copy.name, W, H, alpha=True,
+                                    float_buffer=True)
+        image.colorspace_settings.name = "Linear Rec.709"
+        props.aged_image = image
+    write_rgba(image, aged_pixels(copy, years))
+    image["lightfade_years"] = float(years)
+    for tree, node in find_nodes(copy.node_tree, GROUP_NODE):
+        socket = node.outputs[0].links[0].to_socket if node.outputs[0].links else None
+        if socket is None:
+            continue
+        applied = tree.nodes.get(APPLIED_NAME)
+        if applied is None:
+            applied = tree.nodes.new("ShaderNodeTexImage")
+            applied.name = applied.label = APPLIED_NAME
+            applied.location = (node.location.x, node.location.y + 260)
+            uv = tree.nodes.new("ShaderNodeUVMap")
+            uv.name = uv.label = APPLIED_NAME + " UV"
+            uv.location = (applied.location.x - 220, applied.location.y)
+            tree.links.new(uv.outputs["UV"], applied.inputs["Vector"])
+        tree.nodes[APPLIED_NAME + " UV"].uv_map = props.uv_map
+        applied.image = image
+        applied.interpolation = "Linear"
+        applied.extension = _extension(copy)
+        tree.links.new(applied.outputs["Color"], socket)
+    return image
+
+
+def apply_aging(scene, years=None):
+    """Real aged images for every aged copy of ``scene``, wired in: {copy name: image}.
+
+    Through the numpy evaluator of the copy's own aging table (the one its node group
+    reads). ``years`` defaults to the scene's. :func:`live_aging` undoes the wiring.
+    """
+    years = check_years(get_years(scene) if years is None else years)
+    update_scene(scene, years)
+    return {copy.name: apply_copy(copy, years) for copy in aged_copies(scene)}
+
+
+def live_aging(scene):
+    """The aging node groups back in place of applied images (which are removed)."""
+    n = 0
+    for copy in aged_copies(scene):
+        props = copy.lightfade
+        for tree, node in find_nodes(copy.node_tree, GROUP_NODE):
+            applied = tree.nodes.get(APPLIED_NAME)
+            if applied is not None:
+                for link in list(applied.outputs["Color"].links):
+                    tree.links.new(node.outputs[0], link.to_socket)
+                tree.nodes.remove(applied)
+                tree.nodes.remove(tree.nodes[APPLIED_NAME + " UV"])
+        if props.aged_image is not None:
+            bpy.data.images.remove(props.aged_image)
+            props.aged_image = None
+            n += 1
+    return n

@@ -4,8 +4,9 @@ Aging never edits the user's material: :func:`make_copy` copies it (and the node
 groups on the way to its colour BSDF) for one object, :func:`assign` puts the copy in
 that object's slots with ``slot.link = 'OBJECT'`` — so a material shared by a sunny and
 a shaded object, or a mesh shared by linked duplicates, gives each object its own look
-without making anything single user — and :func:`wire` feeds the aged image into the
-copy's colour socket.  :func:`remove_copy` puts the slots back exactly (link and
+without making anything single user — and :func:`insert_group` puts the aging node
+group between the copy's own Base Color graph and its BSDF (:func:`wire` feeds real
+aged pixels instead, when they are applied).  :func:`remove_copy` puts the slots back exactly (link and
 object-level material) and deletes the copy and the group trees made for it.
 """
 
@@ -16,8 +17,12 @@ import bpy
 from .source import tree_at
 
 AGED_PREFIX = "LF_Aged_"
-#: Name of the Image Texture node that feeds the aged colour in a copy.
-NODE_NAME = "LightFade Aged Albedo"
+#: Name of the group node that ages the Base Color in a copy.
+GROUP_NODE = "LightFade Aging"
+#: Name of the Image Texture node feeding a restored (new) texture into the group.
+NODE_NAME = "LightFade Restored Albedo"
+#: Name of the Image Texture node feeding applied (real) aged pixels.
+APPLIED_NAME = "LightFade Applied Aging"
 #: Custom property tagging node trees copied for a copy (removed with it).
 TREE_TAG = "lightfade_copy"
 
@@ -88,24 +93,88 @@ def restore_slots(copy):
     copy.lightfade.slot_backups.clear()
 
 
-def wire(copy, colour, image, uv_map, interpolation="Linear", extension="EXTEND"):
-    """Feed ``image`` (sampled with ``uv_map``) into the copy's colour socket."""
+def _colour_socket(copy, colour):
     tree = tree_at(copy.node_tree, colour.groups)
+    return tree, tree.nodes[colour.node].inputs[colour.socket]
+
+
+def insert_group(copy, colour, group, restored=None):
+    """Put the aging group between the copy's Base Color graph and its BSDF.
+
+    The graph's output (or the socket's own colour when unlinked) feeds the group's
+    Color input; ``restored`` (an image of the texture restored to new) feeds it
+    instead for a material with a history.  Idempotent: a second call replaces the
+    group node's tree and inputs.
+    """
+    tree, socket = _colour_socket(copy, colour)
     bsdf = tree.nodes[colour.node]
-    node = tree.nodes.get(NODE_NAME)
+    node = tree.nodes.get(GROUP_NODE)
+    if node is None:
+        node = tree.nodes.new("ShaderNodeGroup")
+        node.name = node.label = GROUP_NODE
+        node.location = (bsdf.location.x - 240, bsdf.location.y + 40)
+        node.width = 200
+        feed = socket.links[0].from_socket if socket.links else None
+        if feed is None:
+            value = tuple(socket.default_value)
+        node.node_tree = group
+        if feed is not None:
+            tree.links.new(feed, node.inputs[0])
+        else:
+            node.inputs[0].default_value = value
+    else:
+        old = node.node_tree
+        node.node_tree = group
+        if old is not None and old != group and old.users == 0:
+            bpy.data.node_groups.remove(old)
+    group[TREE_TAG] = True
+    if restored is not None:
+        image = tree.nodes.get(NODE_NAME) or tree.nodes.new("ShaderNodeTexImage")
+        image.name = image.label = NODE_NAME
+        image.location = (node.location.x - 300, node.location.y - 200)
+        image.image = restored
+        image.interpolation = "Linear"
+        image.extension = "EXTEND"
+        uv = tree.nodes.get(NODE_NAME + " UV") or tree.nodes.new("ShaderNodeUVMap")
+        uv.name = uv.label = NODE_NAME + " UV"
+        uv.location = (image.location.x - 220, image.location.y)
+        uv.uv_map = copy.lightfade.uv_map
+        tree.links.new(uv.outputs["UV"], image.inputs["Vector"])
+        tree.links.new(image.outputs["Color"], node.inputs[0])
+    tree.links.new(node.outputs[0], socket)
+    return node
+
+
+def wire(copy, colour, image, uv_map, interpolation="Linear", extension="EXTEND"):
+    """Feed ``image`` (sampled with ``uv_map``) into the copy's colour socket: real aged
+    pixels (:func:`..apply.apply_aging`); :func:`rewire_live` puts the group back."""
+    tree, socket = _colour_socket(copy, colour)
+    bsdf = tree.nodes[colour.node]
+    node = tree.nodes.get(APPLIED_NAME)
     if node is None:
         node = tree.nodes.new("ShaderNodeTexImage")
-        node.name = node.label = NODE_NAME
-        node.location = (bsdf.location.x - 320, bsdf.location.y + 80)
+        node.name = node.label = APPLIED_NAME
+        node.location = (bsdf.location.x - 320, bsdf.location.y + 300)
         uv = tree.nodes.new("ShaderNodeUVMap")
-        uv.name = uv.label = NODE_NAME + " UV"
+        uv.name = uv.label = APPLIED_NAME + " UV"
         uv.location = (node.location.x - 220, node.location.y)
         tree.links.new(uv.outputs["UV"], node.inputs["Vector"])
-    tree.nodes[NODE_NAME + " UV"].uv_map = uv_map
+    tree.nodes[APPLIED_NAME + " UV"].uv_map = uv_map
     node.image = image
     node.interpolation = interpolation
     node.extension = extension
-    tree.links.new(node.outputs["Color"], bsdf.inputs[colour.socket])
+    tree.links.new(node.outputs["Color"], socket)
+
+
+def rewire_live(copy, colour):
+    """The aging group back into the colour socket (after :func:`wire`)."""
+    tree, socket = _colour_socket(copy, colour)
+    node = tree.nodes.get(GROUP_NODE)
+    if node is not None:
+        tree.links.new(node.outputs[0], socket)
+    for name in (APPLIED_NAME, APPLIED_NAME + " UV"):
+        if name in tree.nodes:
+            tree.nodes.remove(tree.nodes[name])
 
 
 def remove_copy(copy):

@@ -11,6 +11,7 @@ from .source import material_plan
 from .bake.panel import draw_bake_panel
 from .stats import annual_dose, emitter_schedule, image_max
 from .status import copy_status
+from .years import YEARS_PROP
 
 
 class LightFadeSidebarMixin:
@@ -46,7 +47,11 @@ class VIEW3D_PT_lightfade_aging(LightFadeSidebarMixin, bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
-        layout.prop(context.scene.lightfade, "years")
+        scene = context.scene
+        if YEARS_PROP in scene.keys():             # the keyframable custom property
+            layout.prop(scene, f'["{YEARS_PROP}"]', text="Years")
+        else:
+            layout.prop(scene.lightfade, "years")
         row = layout.row(align=True)
         row.operator("lightfade.age", icon="TIME")
         row.operator("lightfade.reset", icon="LOOP_BACK")
@@ -60,9 +65,10 @@ class VIEW3D_PT_lightfade_aging(LightFadeSidebarMixin, bpy.types.Panel):
                       icon="ERROR" if status.startswith("stale") else "MATERIAL")
         if len(copies) > 8:
             col.label(text=f"… and {len(copies) - 8} more")
-        if copies and any(c.lightfade.max_years < context.scene.lightfade.years for c in copies):
-            layout.label(text="Years past the prepared range are computed in memory "
-                         "(not stored)", icon="INFO")
+        beyond = [c for c in copies if c.lightfade.max_years < scene.lightfade.years]
+        if beyond:
+            layout.label(text=f"Past the prepared {beyond[0].lightfade.max_years:g} years: "
+                         "shown at that; press Age to extend", icon="ERROR")
         layout.label(text="Collection and geometry-nodes instances are not aged per instance",
                      icon="INFO")
 

@@ -4,7 +4,9 @@ The order is the promise made to the user: every check that can refuse runs firs
 (:func:`.targets.check`, no Cycles work yet) and all problems are reported together;
 then each object gets its own aged copies (:mod:`.copies`), the Base Color of the
 copies on the baked path is evaluated by Cycles (:mod:`.albedo`, one bake per object),
-the agers are prepared (:mod:`.runtime`) and the years are written (:mod:`.apply`).
+the aging data are prepared (:mod:`.runtime`) and each copy gets its aging node group
+(:mod:`.nodes.aging`) between its own Base Color graph and its BSDF; the scene's years
+drive them all (:mod:`.years`).
 If anything fails on the way, the copies made so far are removed again.
 """
 
@@ -14,8 +16,9 @@ import bpy
 
 from . import runtime
 from .albedo import albedo_image, bake_albedos
-from .apply import write_years
-from .copies import assign, copies_of, make_copy, wire
+from .apply import build_group
+from .copies import assign, copies_of, insert_group, make_copy
+from .years import write_years
 from .errors import AgingError, check_years
 from .exposure import exposure_shape, exposure_uv
 from .grids import purge
@@ -26,16 +29,6 @@ from .targets import check, format_problems, targets
 def _view_layer(scene):
     context = bpy.context
     return context.view_layer if context.scene == scene else scene.view_layers[0]
-
-
-def _aged_image(copy, size):
-    w, h = size
-    image = bpy.data.images.get(copy.name)
-    if image is not None:
-        bpy.data.images.remove(image)
-    image = bpy.data.images.new(copy.name, w, h, alpha=True, float_buffer=True)
-    image.colorspace_settings.name = "Linear Rec.709"
-    return image
 
 
 def _new_copy(obj, material, plan, years):
@@ -49,12 +42,10 @@ def _new_copy(obj, material, plan, years):
     h, w = exposure_shape(obj)
     if plan.path == "DIRECT":
         props.albedo = plan.image
-        w, h = plan.image.size
     elif plan.path == "FLAT":
         props.flat_colour = plan.flat
     else:
         props.albedo = albedo_image(copy, (h, w))
-    props.aged_image = _aged_image(copy, (w, h))
     return copy
 
 
@@ -69,7 +60,7 @@ def lock_interface(scene):
 def age_scene(scene, years, selected=(), progress=None, report=None):
     """Age the target materials (see :func:`.targets.targets`) and show ``years``.
 
-    Returns the aged images, one per (object, material).  Raises :class:`AgingError`
+    Returns the aged copies, one per (object, material).  Raises :class:`AgingError`
     with every problem found, before anything changes, when any pair cannot be aged.
     """
     years = check_years(years)
@@ -104,17 +95,14 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
             def step(f, msg, k=k, name=props.source.name):
                 say((len(made) + k + f) / (2 * len(made)), f"{name}: {msg}")
 
-            state = runtime.prepare(scene, copy, exposure_shape(props.aged_object), step)
+            runtime.prepare(scene, copy, exposure_shape(props.aged_object), step)
             props.signature = runtime.signature(scene, copy)
-            wire(copy, plan.colour, props.aged_image, props.uv_map)
-            write_years(state, props.aged_image, years)
+            insert_group(copy, plan.colour, build_group(copy), props.restored_image)
     except BaseException:
         for copy, _plan in made:
             remove_aged(copy)
         raise
     purge(scene, {c.lightfade.grid_key for c in copies_of()})
     lock_interface(scene)
-    if scene.lightfade.years != years:
-        scene.lightfade.years = years
-    scene.lightfade.last_valid_years = years
-    return [copy.lightfade.aged_image for copy, _plan in made]
+    write_years(scene, years)
+    return [copy for copy, _plan in made]

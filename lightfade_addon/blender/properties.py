@@ -3,7 +3,8 @@
 Where the data lives
 --------------------
 ``Scene.lightfade`` (:class:`LIGHTFADE_PG_scene`)
-    The years slider and the bake settings.
+    The bake settings, and ``years``: a view of the scene's custom property
+    ``lightfade_years`` (:mod:`.years`), which the aged materials read themselves.
 ``Light.lightfade`` and ``World.lightfade`` (:class:`LIGHTFADE_PG_schedule`)
     The light schedule of a lamp or of the sky: spectrum, UV filter, hours per day,
     days per year, and whether the emitter takes part in aging.  It lives on the light
@@ -37,6 +38,7 @@ from bpy.props import (
 from bpy.types import PropertyGroup
 
 
+from .years import SOFT_MAX_YEARS, get_years, write_years
 from .vocabulary import (  # noqa: F401  (re-exported: the names scripts know)
     AUTO_SPECTRUM,
     PRIOR_SPECTRUM_ITEMS,
@@ -230,7 +232,30 @@ class LIGHTFADE_PG_material(PropertyGroup):
     aged_image: PointerProperty(
         name="Aged Image",
         type=bpy.types.Image,
-        description="The image LightFade writes the aged colour into (the original is never changed)",
+        description="Real aged pixels written by Apply Aging (for export, other engines, "
+        "painting); none while the material evaluates the aging itself",
+    )
+    key_image: PointerProperty(
+        name="Key Image",
+        type=bpy.types.Image,
+        description="Each texel's colour key into the aging table (read by the aging node group)",
+    )
+    rate_image: PointerProperty(
+        name="Dose Rate Image",
+        type=bpy.types.Image,
+        description="Annual dose per light spectrum, lux·h (read by the aging node group)",
+    )
+    table_image: PointerProperty(
+        name="Aging Table Image",
+        type=bpy.types.Image,
+        description="The change of every colour key along the dose axis (read by the aging "
+        "node group and by Apply Aging)",
+    )
+    restored_image: PointerProperty(
+        name="Restored Image",
+        type=bpy.types.Image,
+        description="The texture restored to new (a material with a history): the colour "
+        "the aging starts from",
     )
     signature: StringProperty(
         name="Signature",
@@ -255,11 +280,6 @@ class LIGHTFADE_PG_material(PropertyGroup):
     )
 
 
-#: Callables ``fn(scene)`` run when the years slider changes to a valid value.  The
-#: handlers module adds itself on register, so this module imports nothing of the shell.
-YEARS_LISTENERS = []
-
-
 #: Blender stores an infinite float property as the largest float32: that is "inf" too.
 _FLOAT32_MAX = 3.0e38
 
@@ -269,19 +289,19 @@ def valid_years(years):
     return years == years and 0.0 <= years < _FLOAT32_MAX
 
 
-def _on_years_changed(self, context):
-    # Dragging the slider: update the aged textures (keyframed values go through the
-    # frame-change handler instead: update callbacks do not fire for F-curves).
-    if not valid_years(self.years):
-        bad, self.years = self.years, self.last_valid_years      # refused, value kept
-        bad = float("inf") if bad >= _FLOAT32_MAX else bad
+def _get_years(self):
+    return get_years(self.id_data)
+
+
+def _set_years(self, value):
+    # The slider writes the scene's custom property the aged materials read (see
+    # .years): nothing else runs, so scrubbing costs no Python work.
+    if not valid_years(value):
+        bad = float("inf") if value >= _FLOAT32_MAX else value
         print(f"LightFade: years must be a finite number >= 0, got {bad!r}; "
-              f"kept {self.last_valid_years:g}")
+              f"kept {get_years(self.id_data):g}")
         return
-    if self.last_valid_years != self.years:
-        self.last_valid_years = self.years
-    for listener in YEARS_LISTENERS:
-        listener(self.id_data)
+    write_years(self.id_data, value)
 
 
 class LIGHTFADE_PG_scene(PropertyGroup):
@@ -289,19 +309,14 @@ class LIGHTFADE_PG_scene(PropertyGroup):
 
     years: FloatProperty(
         name="Years",
-        description="Years of light exposure to show (animatable: keyframe it for a time-lapse)",
-        default=0.0,
+        description="Years of light exposure to show: the scene's custom property "
+        "'lightfade_years' (keyframe that one for a time-lapse)",
         soft_min=0.0,
-        soft_max=100.0,
+        soft_max=SOFT_MAX_YEARS,
         precision=1,
-        options={"ANIMATABLE"},
-        update=_on_years_changed,
-    )
-    last_valid_years: FloatProperty(
-        name="Last Valid Years",
-        description="The years value shown before an invalid one was refused",
-        default=0.0,
-        options={"HIDDEN"},
+        options=set(),
+        get=_get_years,
+        set=_set_years,
     )
     lock_interface_before: IntProperty(
         name="Lock Interface Before Aging",

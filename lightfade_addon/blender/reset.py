@@ -1,7 +1,8 @@
 """Reset: the file as it was before Age (and, optionally, before Bake Exposure).
 
 Slots and links come back exactly (:func:`.copies.remove_copy`), LightFade's images
-and copied node groups are removed, only grids still named by an aged copy stay in
+(aging data, baked albedo, applied pixels), its aging node groups and copied node
+groups are removed, only grids still named by an aged copy stay in
 the file, and Render > Lock Interface is put back as the user had it.
 """
 
@@ -9,7 +10,7 @@ from __future__ import annotations
 
 import bpy
 
-from . import runtime
+from . import agingdata, runtime
 from .albedo import ALBEDO_PREFIX
 from .copies import copies_of, remove_copy
 from .exposure import remove_exposure
@@ -19,6 +20,7 @@ from .grids import purge
 def remove_aged(copy):
     """Remove one aged copy: slots restored, its images (if nothing else uses them) gone."""
     runtime.forget(copy)
+    agingdata.remove(copy)
     props = copy.lightfade
     images = [props.aged_image]
     if props.albedo is not None and props.albedo.name.startswith(ALBEDO_PREFIX):

@@ -1,22 +1,18 @@
-"""Prepared agers, kept in memory and keyed robustly by the aged copy's ``session_uid``.
+"""Preparing an aged copy: its aging table and per-texel data, as images in the file.
 
 Everything slow happens once per aged copy in :func:`prepare`: albedo and exposure
 read, the grid loaded from the file (or simulated once), colours unmixed — a
-:class:`~lightfade_addon.core.aging.TextureAger`.  The years slider then only looks
-doses up.  The state is rebuilt from what the file holds (albedo image or flat colour,
-exposure maps, the stored grid) whenever it is missing: after a file load, an undo, or
-in a fresh render process; renaming a material or image does not lose it.
-
-Years past the prepared range (``max_years``) are computed by a second, temporary ager
-with a longer dose axis that lives only in memory: the stored grid, and so every
-value inside the range, stays exactly as it was.
+:class:`~lightfade_addon.core.aging.TextureAger` — and what it keeps written into
+three images the copy's node group reads (:mod:`.agingdata`): the keys, the dose
+rates and the aging table. The years then cost nothing here: the material evaluates
+them. :func:`evaluator` rebuilds the numpy twin from the same images (after a file
+load too, with no unmixing), for real aged images (:mod:`.apply`).
 """
 
 from __future__ import annotations
 
 import hashlib
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -24,6 +20,7 @@ from ..core.aging import Light, TextureAger
 from ..core.grid import GridSettings
 from ..core.recipes import get_recipe
 from ..core.restore import Prior
+from . import agingdata
 from .errors import AgingError
 from .exposure import exposure_signature, lights_and_exposure
 from .grids import SceneGridStore
@@ -37,46 +34,23 @@ GRID_SETTINGS = GridSettings()
 
 
 def prepared_range(years):
-    """Years a preparation covers: 100 × the smallest power of two holding ``years``.
-
-    The same rule sizes the temporary far-years ager (:func:`far_ager`), so the slider
-    past the range and an Age at that many years use the same dose axis and agree.
-    """
+    """Years a preparation covers: 100 × the smallest power of two holding ``years``."""
     k = max(0, math.ceil(math.log2(max(years, 1e-12) / MIN_PREPARED_YEARS) - 1e-12))
     return MIN_PREPARED_YEARS * 2.0 ** k
 
 
-@dataclass
-class Prepared:
-    """A prepared copy: the ager, the pixel buffer and what it was built from."""
-
-    ager: TextureAger
-    image_ptr: int
-    buffer: np.ndarray                    # (n, 4) float32, Blender's RGBA layout
-    inputs: tuple                         # (rgb, recipe, lights, exposure) for a far ager
-    years: float | None = None
-    far: list = field(default_factory=list)   # at most one temporary ager
-
-
-_STATES = {}
+#: Numpy evaluators rebuilt from a copy's images, keyed by the copy's ``session_uid``
+#: and checked against the images they were read from.
+_EVALUATORS = {}
 
 
 def clear():
-    """Forget every prepared ager (file load, reset, unregister)."""
-    _STATES.clear()
+    """Forget every cached evaluator (file load, reset, unregister)."""
+    _EVALUATORS.clear()
 
 
 def forget(copy):
-    _STATES.pop(copy.session_uid, None)
-
-
-def get(copy):
-    """The prepared state of ``copy`` if it is still valid for its image, else None."""
-    state = _STATES.get(copy.session_uid)
-    image = copy.lightfade.aged_image
-    if state is None or image is None or state.image_ptr != image.as_pointer():
-        return None
-    return state
+    _EVALUATORS.pop(copy.session_uid, None)
 
 
 def material_recipe(material):
@@ -140,49 +114,52 @@ def albedo_rgba(copy, shape):
     return rgba
 
 
-def prepare(scene, copy, shape, progress=None):
-    """Build (or load) the ager of ``copy`` and remember it; returns :class:`Prepared`.
+def _exposure_at(scene, obj, shape):
+    return lights_and_exposure(scene, obj, shape)
 
-    ``shape`` is the exposure maps' (H, W) (the flat path's texture size).  The grid comes
-    from the file's store, else the disk cache, else it is simulated, and is stored
-    in the file under the key recorded in ``copy.lightfade.grid_key``.
+
+def prepare(scene, copy, shape, progress=None):
+    """Build (or load) the aging of ``copy`` and write its images and node group data.
+
+    ``shape`` is the exposure maps' (H, W) (the flat path's texture size).  The grid
+    comes from the file's store, else the disk cache, else it is simulated, and is
+    stored in the file under the key recorded in ``copy.lightfade.grid_key``.
+    Returns the :class:`~lightfade_addon.core.aging.TextureAger`.
     """
     props = copy.lightfade
     obj = props.aged_object
     if obj is None or props.source is None:
         raise AgingError(f"Aged material '{copy.name}' lost its object or source: press Reset")
     rgba = albedo_rgba(copy, shape)
-    lights, exposure = lights_and_exposure(scene, obj, rgba.shape[:2])
+    lights, exposure = _exposure_at(scene, obj, rgba.shape[:2])
+    _lights, at_bake = _exposure_at(scene, obj, shape)
     recipe = material_recipe(props.source)
     prior = material_prior(props.source)
-    rgb = rgba[..., :3]
+    # the node group reads the rates at the bake's resolution: the grid must reach their max
+    max_rate = float(sum(e.max() * light.annual_dose for e, light in zip(at_bake, lights)))
     try:
-        ager = TextureAger(rgb, recipe, lights, exposure, max_years=props.max_years,
+        ager = TextureAger(rgba[..., :3], recipe, lights, exposure, max_years=props.max_years,
                            encoding="linear", settings=GRID_SETTINGS, progress=progress,
-                           store=SceneGridStore(scene), prior=prior)
+                           store=SceneGridStore(scene), prior=prior, max_rate=max_rate)
     except ValueError as err:
         raise AgingError(f"Material '{props.source.name}' on '{obj.name}': {err}") from None
     props.grid_key = ager.grid.key
     props.lost_texels = 0 if ager.lost is None else int(np.count_nonzero(ager.lost))
-    buffer = np.empty((rgb.shape[0] * rgb.shape[1], 4), dtype=np.float32)
-    buffer[:, 3] = rgba[..., 3].reshape(-1)
-    state = Prepared(ager, props.aged_image.as_pointer(), buffer,
-                     (rgb, recipe, lights, exposure, prior))
-    _STATES[copy.session_uid] = state
-    return state
+    agingdata.write(copy, ager, lights, at_bake, restored=prior is not None)
+    forget(copy)
+    return ager
 
 
-def far_ager(state, years):
-    """An ager covering ``years`` beyond the prepared range, in memory only.
-
-    Its range is :func:`prepared_range` of ``years``, so every process (and an Age at
-    that many years) computes the same values for the same years.
-    """
-    max_years = prepared_range(years)
-    if state.far and state.far[0].max_years == max_years:
-        return state.far[0]
-    rgb, recipe, lights, exposure, prior = state.inputs
-    far = TextureAger(rgb, recipe, lights, exposure, max_years=max_years, encoding="linear",
-                      settings=GRID_SETTINGS, store=None, prior=prior)
-    state.far[:] = [far]
-    return far
+def evaluator(copy):
+    """(table, texels, positions, original RGBA) of ``copy`` for :func:`..core.table.evaluate`,
+    read from the copy's images (cached while they are unchanged)."""
+    key = agingdata.fingerprint(copy)
+    cached = _EVALUATORS.get(copy.session_uid)
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    original = albedo_rgba(copy, agingdata.key_shape(copy))
+    if copy.lightfade.restored_image is not None:
+        original = read_rgba(copy.lightfade.restored_image)
+    data = agingdata.read(copy, original)
+    _EVALUATORS[copy.session_uid] = (key, data)
+    return data

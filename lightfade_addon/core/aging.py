@@ -18,25 +18,21 @@ from __future__ import annotations
 import numpy as np
 
 from .cache import load_or_build
-from .colorimetry import linear_srgb_to_XYZ, srgb_decode, srgb_encode, XYZ_to_linear_srgb
-from .gamut import encode_in_gamut, into_gamut_planes, out_of_gamut
+from .colorimetry import srgb_decode, srgb_encode, XYZ_to_linear_srgb
+from .gamut import encode_in_gamut, out_of_gamut
 from .grid import GridSettings
-from .lattice import DOSE_POWER, dose_index, grid_max_dose, simplex_interpolation
+from .lattice import grid_max_dose
 from .lights import HOURS_PER_YEAR_DEFAULT, Light, dose_rates, spectra_keys
 from .recipes import Recipe, get_recipe
 from .restore import Prior, log_initial, restore
 from .spectra import WAVELENGTHS, light_spectrum
+from .table import AgingTable, Texels, evaluate, evaluate_change, max_keys, texel_positions
 from .texels import texel_concentrations
 from .unmix import get_unmixer
 
 __all__ = ["Light", "Prior", "TextureAger", "age_image", "age_image_exact",
            "HOURS_PER_YEAR_DEFAULT"]
 
-#: Rows (a key's change at one mix node and dose node: three float16, 6 bytes) of a
-#: texture's aging table: 101 MB, 258,111 keys of one light spectrum and 65 dose nodes.
-#: (Half-precision logs are within 0.1 % of float32; a float32 table of as many keys
-#: updated a 2048² texture no faster and took twice the memory.)
-TABLE_ROWS = 1 << 24
 #: Texels updated per block in :meth:`TextureAger.age` (bounds the temporaries).
 _BLOCK = 1 << 18
 
@@ -55,10 +51,6 @@ def _in_range(rgb, encoding):
         return rgb
     lin = rgb if encoding == "linear" else srgb_decode(np.clip(rgb, 0.0, None))
     return encode_in_gamut(np.array(lin, dtype=np.float32), encoding).astype(np.float32)
-
-
-def _root(years):
-    return float(years) ** (1.0 / DOSE_POWER)
 
 
 def _as_recipe(recipe):
@@ -97,6 +89,10 @@ class TextureAger:
         :meth:`age` ages from new, so 0 years is the restored texture. The lost
         pixels are in :attr:`lost`.
 
+    max_rate : float, optional
+        Largest annual dose (lux·h) the table must cover besides the texels' own (the
+        same exposure seen at another resolution, e.g. by a node group).
+
     Attributes
     ----------
     lost : ndarray of bool or None
@@ -105,7 +101,7 @@ class TextureAger:
 
     def __init__(self, rgb, recipe, lights, exposure=None, *, max_years=100.0,
                  encoding="linear", settings=GridSettings(), cache=True, progress=None,
-                 store=None, prior=None):
+                 store=None, prior=None, max_rate=None):
         self.recipe = _as_recipe(recipe)
         if not isinstance(self.recipe, Recipe):
             raise TypeError("recipe must be a Recipe or a recipe name")
@@ -143,7 +139,8 @@ class TextureAger:
         self.rate = rates.sum(axis=0)                                   # lux·h per year
         self.spectra = np.stack([light_spectrum(s, WAVELENGTHS, uv) for s, uv in keys])
 
-        max_dose = grid_max_dose(float(self.rate.max()) * self.max_years)
+        top = max(float(self.rate.max()), float(max_rate or 0.0))
+        max_dose = grid_max_dose(top * self.max_years)
         say(0.0, "building the fading grid")
         self.grid = load_or_build(self.recipe, self.spectra, max_dose, settings, cache=cache,
                                   progress=lambda f, m: say(0.6 * f, m), store=store)
@@ -151,45 +148,19 @@ class TextureAger:
         say(0.6, "unmixing colours")
         unmixer = get_unmixer(self.recipe)
         M, T = self.grid.change.shape[:2]
+        S = len(keys)
         key, c = texel_concentrations(
             flat if encoding == "srgb" else
             _blockwise(flat, lambda b: srgb_encode(np.clip(b, 0, 1))), unmixer,
-            max_keys=max(TABLE_ROWS // (M * T), 1))
+            max_keys=max_keys(S, self.grid.q, T))
         say(0.85, f"change curves for {c.shape[0]} colours")
         curves = self.grid.curves(c, log_initial(self.grid, unmixer, c))     # (U, M, T, 3)
-        U, M, T, _ = curves.shape
-        # Planar table over (colour, mix node, dose node): a texel at fractional position
-        # i + f needs the values at nodes i and i + 1, 12 adjacent bytes: two gathers of
-        # a 'void6' view, the second from the cache line the first brought in.
-        self._values = np.ascontiguousarray(curves.reshape(-1, 3), dtype=np.float16)
-        self._nodes = self._values.view(np.dtype((np.void, 6))).ravel()
+        self.table = AgingTable.from_curves(curves, self.grid.max_dose, S, self.grid.q)
         del curves
-        self._T = T
-        key *= M * T
-        if len(keys) == 1:
-            self._offsets = key[None]
-            self._weights = None
-        else:
-            self._offsets = np.empty((len(keys), n), dtype=np.int32)
-            self._weights = np.empty((len(keys), n), dtype=np.float32)
-            for s0 in range(0, n, _BLOCK):
-                s1 = min(s0 + _BLOCK, n)
-                total = self.rate[s0:s1]
-                mix = np.where(total > 0, rates[:, s0:s1] / np.maximum(total, 1e-30), np.float32(0.0)).T
-                mix[total <= 0, 0] = 1.0
-                nodes, weights = simplex_interpolation(mix, self.grid.q)
-                self._offsets[:, s0:s1] = key[s0:s1] + nodes.T * T
-                self._weights[:, s0:s1] = weights.T
+        lin = _blockwise(flat, srgb_decode) if encoding == "srgb" else flat
+        self.texels = Texels.from_linear(key, rates, lin)
         del rates, key
-        # s = sigma * years**(1/DOSE_POWER) is the texel's fractional position on the dose axis
-        self._sigma = (dose_index(self.rate / np.float32(self.grid.max_dose), T)
-                       .astype(np.float32))
-        self._XYZ = np.empty((3, n), dtype=np.float32)
-        for s0 in range(0, n, _BLOCK):
-            s1 = min(s0 + _BLOCK, n)
-            lin = srgb_decode(flat[s0:s1]) if encoding == "srgb" else flat[s0:s1]
-            self._XYZ[:, s0:s1] = linear_srgb_to_XYZ(lin).T
-        self._to_rgb = (XYZ_to_linear_srgb(np.eye(3)).T).astype(np.float32)           # (3, 3)
+        self._positions = texel_positions(self.table, self.texels)
         say(1.0, "ready")
 
     def dose(self, years):
@@ -205,36 +176,6 @@ class TextureAger:
                              f"{self.max_years:g}; prepare it with a larger max_years")
         return years
 
-    def _change(self, s0, s1, root_years):
-        # root_years = years ** (1 / DOSE_POWER): a texel's position on the dose axis is
-        # sigma * root_years, since the rate is constant per texel
-        """``exp(change)`` for texels s0:s1 as (3, k) planes."""
-        k = s1 - s0
-        pos = self._sigma[s0:s1] * np.float32(root_years)
-        i = pos.astype(np.int32)
-        np.minimum(i, self._T - 2, out=i)
-        f = pos
-        f -= i                                        # fractional position, in place
-        out = np.empty((3, k), dtype=np.float32)
-        tmp = np.empty(k, dtype=np.float32)
-        idx = np.empty(k, dtype=np.int32)
-        acc = None if self._weights is None else np.zeros((3, k), dtype=np.float32)
-        for v in range(self._offsets.shape[0]):
-            np.add(self._offsets[v, s0:s1], i, out=idx)
-            lo = np.take(self._nodes, idx).view(np.float16).reshape(k, 3).astype(np.float32)
-            idx += 1
-            hi = np.take(self._nodes, idx).view(np.float16).reshape(k, 3).astype(np.float32)
-            for ch in range(3):                       # v_i + f (v_i+1 - v_i)
-                np.subtract(hi[:, ch], lo[:, ch], out=tmp)
-                tmp *= f
-                np.add(tmp, lo[:, ch], out=out[ch])
-            if acc is not None:
-                out *= self._weights[v, s0:s1]
-                acc += out
-        result = out if acc is None else acc
-        np.exp(result, out=result)
-        return result
-
     def out_of_range(self, years):
         """Mask (texture shape) of texels the gamut rule maps back at ``years``.
 
@@ -243,22 +184,22 @@ class TextureAger:
         """
         years = self._check_years(years)
         n = self.original.size // 3
-        mask = np.zeros(n, dtype=bool)
-        if years > 0:
-            for s0 in range(0, n, _BLOCK):
-                s1 = min(s0 + _BLOCK, n)
-                XYZ = self._change(s0, s1, _root(years)) * self._XYZ[:, s0:s1]
-                mask[s0:s1] = out_of_gamut((self._to_rgb @ XYZ).T)
-        return mask.reshape(self.shape[:-1])
+        if years == 0:
+            return np.zeros(self.shape[:-1], dtype=bool)
+        change = evaluate_change(self.table, self._positions, years)
+        XYZ = np.exp(change) * self.texels.XYZ
+        mask = out_of_gamut((XYZ_to_linear_srgb(np.eye(3)).T @ XYZ).T)
+        return mask.reshape(n).reshape(self.shape[:-1])
 
     def age(self, years, out=None):
         """The texture after ``years`` (float32, same shape and encoding as the input).
 
         Aged colours are mapped into [0, 1] keeping hue (:func:`.gamut.into_gamut`,
-        the rule of every path). Zero years returns the original exactly (as
-        mapped into [0, 1] on construction). With ``out`` an (n, 4) float32
-        array (Blender's RGBA pixel layout), the colour is written into its first
-        three channels and the fourth is left alone.
+        the rule of every path): :func:`.table.evaluate` of this texture's aging
+        table. Zero years returns the original exactly (as mapped into [0, 1] on
+        construction). With ``out`` an (n, 4) float32 array (Blender's RGBA pixel
+        layout), the colour is written into its first three channels and the fourth
+        is left alone.
         """
         years = self._check_years(years)
         n = self.original.size // 3
@@ -268,16 +209,14 @@ class TextureAger:
                 return self.original.copy()
             (out[:, :3] if rgba else out.reshape(n, 3))[:] = self.original.reshape(n, 3)
             return out
-        res = np.empty((n, 3), dtype=np.float32) if out is None else out
-        root = _root(years)
-        for s0 in range(0, n, _BLOCK):
-            s1 = min(s0 + _BLOCK, n)
-            XYZ = self._change(s0, s1, root)
-            XYZ *= self._XYZ[:, s0:s1]
-            target = res[s0:s1, :3] if rgba else res.reshape(n, 3)[s0:s1]
-            rgb = into_gamut_planes(self._to_rgb @ XYZ)            # (3, k), in [0, 1]
-            target[:] = (srgb_encode(rgb) if self.encoding == "srgb" else rgb).T
-        return res if rgba else res.reshape(self.shape)
+        target = out if rgba else (np.empty((n, 3), dtype=np.float32) if out is None
+                                   else out.reshape(n, 3))
+        evaluate(self.table, self.texels, years, self._positions, out=target)
+        if self.encoding == "srgb":
+            target[:, :3] = srgb_encode(target[:, :3])
+        if rgba:
+            return out
+        return target.reshape(self.shape)
 
 
 def age_image(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None,

@@ -18,11 +18,22 @@ def rgba(image):
 
 
 def aged_image(material):
-    """The aged image of ``material``'s only aged copy."""
+    """Real aged pixels of ``material``'s only aged copy at the scene's years (the numpy
+    evaluator of its aging table, which test_material_aging.py checks against the
+    material's node group)."""
+    from lightfade_addon.blender.apply import apply_copy
+    from lightfade_addon.blender.copies import copies_of
+    from lightfade_addon.blender.years import get_years
+
+    (copy,) = copies_of(material)
+    return apply_copy(copy, get_years(bpy.context.scene))
+
+
+def the_copy_props(material):
     from lightfade_addon.blender.copies import copies_of
 
     (copy,) = copies_of(material)
-    return copy.lightfade.aged_image
+    return copy.lightfade
 
 
 def lab_linear(rgb):
@@ -81,39 +92,39 @@ class TestAge:
 
     def test_years_slider_updates_the_texture(self, carpet):
         bpy.ops.lightfade.age(years=1)
-        image = aged_image(carpet["material"])
-        one = rgba(image).copy()
+        one = rgba(aged_image(carpet["material"])).copy()
         bpy.context.scene.lightfade.years = 20.0
-        twenty = rgba(image)
+        twenty = rgba(aged_image(carpet["material"]))
         _, lit = footprint(carpet["floor"])
         assert np.abs(twenty - one)[lit].max() > 0.02
 
     def test_years_beyond_the_prepared_range_extend_the_grid(self, carpet):
         bpy.ops.lightfade.age(years=5)                 # prepared for up to 100 years
-        image = aged_image(carpet["material"])
-        five = rgba(image).copy()
-        bpy.context.scene.lightfade.years = 150.0
-        assert np.abs(rgba(image) - five).max() > 0.01
+        five = rgba(aged_image(carpet["material"])).copy()
+        from lightfade_addon import api
+
+        api.set_years(bpy.context.scene, 150.0)        # prepares 200 years, said in one line
+        assert the_copy_props(carpet["material"]).max_years == 200.0
+        assert np.abs(rgba(aged_image(carpet["material"])) - five).max() > 0.01
 
     def test_keyframed_years_update_per_frame(self, carpet):
         bpy.ops.lightfade.age(years=0)
         scene = bpy.context.scene
-        for frame, years in ((1, 0.0), (10, 30.0)):
-            scene.lightfade.years = years
-            scene.lightfade.keyframe_insert("years", frame=frame)
-        image = aged_image(carpet["material"])
+        from lightfade_addon import api
+
+        api.keyframe_years(scene, [(1, 0.0), (10, 30.0)])
         scene.frame_set(1)
-        first = rgba(image).copy()
+        first = rgba(aged_image(carpet["material"])).copy()
         scene.frame_set(10)
         assert abs(scene.lightfade.years - 30.0) < 1e-6
-        assert np.abs(rgba(image) - first).max() > 0.02
+        assert np.abs(rgba(aged_image(carpet["material"])) - first).max() > 0.02
 
     def test_animation_renders_frames_that_differ(self, carpet, tmp_path):
         scene = bpy.context.scene
         bpy.ops.lightfade.age(years=0)
-        for frame, years in ((1, 0.0), (2, 40.0)):
-            scene.lightfade.years = years
-            scene.lightfade.keyframe_insert("years", frame=frame)
+        from lightfade_addon import api
+
+        api.keyframe_years(scene, [(1, 0.0), (2, 40.0)])
         cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
         scene.collection.objects.link(cam)
         cam.location = (0, 0, 3)
@@ -143,15 +154,18 @@ class TestAge:
         (copy,) = copies_of(mat)
         assert copy.lightfade.path == "FLAT"
         copy_bsdf = copy.node_tree.nodes["Principled BSDF"]
-        assert copy_bsdf.inputs["Base Color"].links[0].from_node.image == aged_image(mat)
+        group = copy_bsdf.inputs["Base Color"].links[0].from_node
+        assert group.name == "LightFade Aging"
+        assert tuple(group.inputs[0].default_value) == pytest.approx((0.1, 0.4, 0.7, 1.0))
+        assert copy.lightfade.key_image.size[:] == copy.lightfade.rate_image.size[:]
         assert not bsdf.inputs["Base Color"].is_linked          # the original is untouched
         assert carpet["floor"].material_slots[0].material == copy
 
     def test_python_api(self, carpet):
         from lightfade_addon import api
 
-        images = api.age_scene(years=3)
-        assert [i.name for i in images] == ["LF_Aged_Carpet.Floor"]
+        copies = api.age_scene(years=3)
+        assert [c.name for c in copies] == ["LF_Aged_Carpet.Floor"]
         assert api.set_years(years=7) >= 0
         assert bpy.context.scene.lightfade.years == 7
         api.reset()
@@ -197,8 +211,11 @@ class TestSaveReload:
         bpy.ops.wm.save_as_mainfile(filepath=path)
         bpy.ops.wm.save_as_mainfile(filepath=path)
         bpy.ops.wm.open_mainfile(filepath=path)
-        image = aged_image(bpy.data.materials["Carpet"])
-        assert image.packed_file is not None and tuple(image.size) == (64, 64)
+        (copy,) = [m for m in bpy.data.materials if m.lightfade.source is not None]
+        for image in (copy.lightfade.key_image, copy.lightfade.rate_image,
+                      copy.lightfade.table_image):
+            assert image.packed_file is not None and len(image.pixels) > 0
+        assert tuple(copy.lightfade.key_image.size) == (64, 64)
 
 
     def test_a_save_after_a_years_change_stores_the_new_pixels(self, carpet, tmp_path):
@@ -348,7 +365,8 @@ def test_diffuse_bsdf_colour_is_aged(carpet):
     (copy,) = copies_of(mat)
     assert copy.lightfade.path == "DIRECT"
     fed = copy.node_tree.nodes[diffuse.name].inputs["Color"].links[0].from_node
-    assert fed.image == copy.lightfade.aged_image
+    assert fed.name == "LightFade Aging"
+    assert fed.inputs[0].links[0].from_node.image == mat.node_tree.nodes["Image Texture"].image
 
 
 def test_only_an_image_colour_through_the_exposure_uv_map_is_read_directly(carpet):

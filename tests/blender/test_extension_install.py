@@ -95,7 +95,8 @@ try:
     bpy.context.scene.collection.objects.link(sun)
     scene = bpy.context.scene
     api.bake(scene, objects=[plane], resolution=64, samples=4, margin=2)
-    aged_images = list(api.age_scene(scene, years=2))
+    api.age_scene(scene, years=2)
+    aged_images = list(api.apply_aging(scene).values())      # real aged pixels
     result["aged_images"] = [im.name for im in aged_images]
     aged = aged_images[0]
 

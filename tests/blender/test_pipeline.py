@@ -205,10 +205,13 @@ def probe(path):
     floor = s.objects["Floor"]
     maps = {m.name: list(m.image.size) for m in floor.lightfade.exposure_maps}
     copies = [m for m in bpy.data.materials if m.lightfade.source is not None]
-    aged = copies[0].lightfade.aged_image if copies else None
+    aged = copies[0] if copies else None
+    data = [aged.lightfade.key_image, aged.lightfade.rate_image,
+            aged.lightfade.table_image] if aged else []
     return {
         "maps": maps, "years": s.lightfade.years, "density": s.lightfade_bake.texels_per_metre,
-        "aged": aged.name if aged else None, "aged_packed": bool(aged and aged.packed_file),
+        "aged": aged.name if aged else None,
+        "aged_packed": bool(data) and all(i is not None and i.packed_file for i in data),
         "grids": len(s.get("lightfade_grids", {})),
     }
 

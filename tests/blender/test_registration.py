@@ -154,11 +154,15 @@ class TestLimits:
     """What Blender itself enforces: hard limits clamp, the slider is animatable."""
 
     def test_scene(self, blender):
-        s = bpy.context.scene.lightfade
-        assert s.bl_rna.properties["years"].is_animatable
+        scene = bpy.context.scene
+        s = scene.lightfade
         for value, kept in ((-3.0, 0.0), (250.0, 250.0)):          # no cap above 100 years
             s.years = value
             assert s.years == kept
+        # the years live in a keyframable custom property with the slider's settings
+        assert scene["lightfade_years"] == 250.0
+        assert scene.id_properties_ui("lightfade_years").as_dict()["min"] == 0.0
+        assert scene.keyframe_insert('["lightfade_years"]', frame=3)
         for value, kept in ((1, 64), (10 ** 6, 8192), (512, 512)):
             s.bake_resolution = value
             assert s.bake_resolution == kept

@@ -106,7 +106,7 @@ class TestTextureAger:
         linear = TextureAger(srgb_decode(image).astype(np.float32), "printed-paper", [SUN],
                              encoding="linear", **kw).age(5)
         assert delta_E_2000(lab(image), lab(srgb)).mean() > 1          # a real fade
-        np.testing.assert_allclose(linear, srgb_decode(srgb), atol=1e-5)
+        np.testing.assert_allclose(linear, srgb_decode(srgb), atol=2e-4)   # gamut-edge rounding
 
     def test_matches_the_exact_path(self, image):
         a = age_image(image, [4.0], "printed-paper", [SUN])[0]

@@ -1,0 +1,205 @@
+"""Aging evaluated in the material: the node group against its numpy twin, zero years,
+years that drive the material without Python, real aged images."""
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ
+
+bpy = pytest.importorskip("bpy")
+
+BASE_COLOR = SimpleNamespace(groups=(), node="Principled BSDF", socket="Base Color")
+
+
+def rgba(image):
+    a = np.empty(image.size[0] * image.size[1] * 4, dtype=np.float32)
+    image.pixels.foreach_get(a)
+    return a.reshape(image.size[1], image.size[0], 4)
+
+
+def the_copy(material):
+    from lightfade_addon.blender.copies import copies_of
+
+    (copy,) = copies_of(material)
+    return copy
+
+
+def node_evaluation(copy, colour=BASE_COLOR):
+    """(H, W, 3) the copy's Base Color as Cycles evaluates it (its aging node group) at
+    the key texels' centres: an Emission bake in the exposure UV map."""
+    from lightfade_addon.blender.agingdata import key_shape
+    from lightfade_addon.blender.albedo import bake_albedos
+
+    H, W = key_shape(copy)
+    image = bpy.data.images.new("NodeEvaluation", W, H, alpha=True, float_buffer=True)
+    image.colorspace_settings.name = "Linear Rec.709"
+    scene = bpy.context.scene
+    out = bake_albedos(scene, bpy.context.view_layer, copy.lightfade.aged_object,
+                       [(copy, colour, image)], copy.lightfade.uv_map, margin=0)
+    bpy.data.images.remove(image)
+    return out[copy.name]
+
+
+def lab(rgb):
+    return XYZ_to_Lab(linear_srgb_to_XYZ(np.asarray(rgb, float).reshape(-1, 3)))
+
+
+@pytest.fixture
+def textured(floor_scene):
+    """The floor scene with a 32² albedo of many smoothly varying colours (a float
+    image), lit by a strong sun; exposure not baked yet."""
+    albedo = bpy.data.images.new("Noise", 32, 32, alpha=True, float_buffer=True)
+    albedo.colorspace_settings.name = "Linear Rec.709"
+    y, x = np.mgrid[0:32, 0:32] / 32.0
+    px = np.ones((32, 32, 4), dtype=np.float32)
+    px[..., 0] = 0.45 + 0.4 * np.sin(3 * x + 1)
+    px[..., 1] = 0.35 + 0.3 * np.cos(4 * y)
+    px[..., 2] = 0.1 + 0.8 * x * y
+    albedo.pixels.foreach_set(px.ravel())
+    albedo.pack()
+    tree = floor_scene["material"].node_tree
+    node = next(n for n in tree.nodes if n.type == "TEX_IMAGE")
+    node.image = albedo
+    # Cycles' bake samples a hair (~0.003 texel) off the texel centres: Closest keeps
+    # the original colour exact there, and a smooth texture keeps the keys' blend there
+    # tiny, so what is compared is the two evaluators
+    node.interpolation = "Closest"
+    floor_scene["material"].lightfade.recipe = "PRINTED_PAPER"
+    floor_scene["material"].lightfade.blue_wool = 2
+    floor_scene["sun"].data.energy = 30.0
+    return floor_scene
+
+
+def _bake_and_age(years=5):
+    assert bpy.ops.lightfade.bake_exposure() == {"FINISHED"}
+    assert bpy.ops.lightfade.age(years=years) == {"FINISHED"}
+
+
+class TestNodeGroupAgainstNumpy:
+    """The two evaluators of one aging table agree texel by texel."""
+
+    @pytest.mark.parametrize("spectra", [1, 2])
+    def test_texel_centres_agree(self, textured, lf, spectra):
+        from lightfade_addon import api
+        from lightfade_addon.blender.apply import aged_pixels
+
+        if spectra == 2:                       # a lamp of another spectrum: a light mix
+            lamp = lf.add_point(power=400.0, location=(-0.5, -0.5, 1.0))
+            lamp.data.lightfade.spectrum = "INCANDESCENT"
+        _bake_and_age()
+        copy = the_copy(textured["material"])
+        assert copy.lightfade.table_image["lightfade_table"]["S"] == spectra
+        for years in (0.0, 3.0, 40.0):
+            api.set_years(bpy.context.scene, years)
+            # the outer ring: Cycles' bake samples border texels off their centres
+            nodes = node_evaluation(copy)[1:-1, 1:-1]
+            numpy = aged_pixels(copy, years)[1:-1, 1:-1, :3]
+            dE = delta_E_2000(lab(nodes), lab(numpy))
+            assert np.percentile(dE, 99) <= 0.2 and dE.max() <= 0.5, (years, dE.max())
+        original = aged_pixels(copy, 0.0)[1:-1, 1:-1, :3]
+        assert delta_E_2000(lab(numpy), lab(original)).mean() > 2     # a real fade
+
+    def test_years_reach_the_group_through_the_scene_property(self, textured):
+        from lightfade_addon.blender.years import YEARS_PROP
+
+        _bake_and_age()
+        copy = the_copy(textured["material"])
+        scene = bpy.context.scene
+        scene[YEARS_PROP] = 0.0
+        new = node_evaluation(copy)
+        scene[YEARS_PROP] = 30.0
+        old = node_evaluation(copy)
+        assert np.abs(new - old).max() > 0.05
+        assert scene.lightfade.years == 30.0
+
+
+RENDER_WITHOUT_LIGHTFADE = """
+import os, sys, numpy as np, bpy
+assert not any(p.endswith("lightfade_addon") for p in sys.path)
+bpy.context.preferences.filepaths.use_scripts_auto_execute = False
+bpy.ops.wm.open_mainfile(filepath={path!r}, load_ui=False)
+assert not hasattr(bpy.types.Scene, "lightfade"), "LightFade must not be installed here"
+scene = bpy.context.scene
+out = []
+for frame in (1, 2):
+    scene.frame_set(frame)
+    scene.render.filepath = {folder!r} + f"/frame{{frame}}.exr"
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(scene.render.filepath)
+    a = np.empty(len(image.pixels), np.float32)
+    image.pixels.foreach_get(a)
+    out.append(a.reshape(image.size[1], image.size[0], 4)[..., :3])
+np.save({out!r}, np.stack(out))
+sys.stdout.flush()
+os._exit(0)
+"""
+
+
+def _camera_and_render_settings(scene):
+    data = bpy.data.cameras.new("Camera")
+    cam = bpy.data.objects.new("Camera", data)
+    scene.collection.objects.link(cam)
+    cam.location = (0.0, 0.0, 3.0)
+    scene.camera = cam
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = 4
+    scene.cycles.use_denoising = False
+    scene.cycles.seed = 7
+    scene.render.resolution_x = scene.render.resolution_y = 48
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+
+
+def _render(scene, folder, name):
+    scene.render.filepath = str(folder / name)
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(scene.render.filepath)
+    a = rgba(image)[..., :3].copy()
+    bpy.data.images.remove(image)
+    return a
+
+
+def test_a_saved_file_renders_its_keyframed_aging_without_lightfade(textured, tmp_path):
+    """Years keyframed 0 → 40: a fresh process where LightFade is not installed (and
+    auto-run scripts are off) renders both frames as this process does, and they differ."""
+    import subprocess
+    import sys
+
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    _bake_and_age(years=0)
+    api.keyframe_years(scene, [(1, 0.0), (2, 40.0)])
+    here = []
+    for frame in (1, 2):
+        scene.frame_set(frame)
+        here.append(_render(scene, tmp_path, f"here{frame}.exr"))
+    path = tmp_path / "aged.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
+    out = tmp_path / "there.npy"
+    code = RENDER_WITHOUT_LIGHTFADE.format(path=str(path), folder=str(tmp_path), out=str(out))
+    env = {k: v for k, v in __import__("os").environ.items() if k != "PYTHONPATH"}
+    proc = subprocess.run([sys.executable, "-c", code], cwd=str(tmp_path), env=env,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    there = np.load(out)
+    for a, b in zip(here, there):
+        assert np.percentile(delta_E_2000(lab(a), lab(b)), 95) <= 1.0
+    lit = here[0].sum(-1) > 0.05
+    change = delta_E_2000(lab(there[0][lit]), lab(there[1][lit]))
+    assert np.median(change) > 2.0                    # the aging rendered there
+
+
+def test_zero_years_renders_the_original_pixels(textured, tmp_path):
+    """Age at 0 years: the same render (same seed) as before Age, pixel for pixel."""
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    textured["material"].node_tree.nodes["Principled BSDF"].inputs["Roughness"].default_value = 0.7
+    before = _render(scene, tmp_path, "before.exr")
+    _bake_and_age(years=0)
+    after = _render(scene, tmp_path, "after.exr")
+    assert np.abs(after - before).max() <= 1e-6
