@@ -7,8 +7,10 @@ two evaluators share one table.  The images are LightFade's own datablocks (pref
 
 ``LF_Key_<copy>``  8-bit RGBA, Non-Color, the albedo's size: each texel's colour key
     (:func:`..core.table.key_pixels`).
-``LF_Rate_<copy>`` float RGBA, Non-Color, the exposure maps' size: annual dose in
-    lux·h from each light spectrum (channels R, G, B, A; up to four spectra).
+``LF_Rate_<copy>`` float RGBA, Non-Color, the exposure maps' size: annual dose from
+    each light spectrum (channels R, G, B, A; up to four spectra) as a fraction of the
+    table's last dose node (GPUs may hold float textures in half precision, whose
+    largest value, 65504, a dose in lux·h passes).
 ``LF_Table_<copy>`` float RGBA, Non-Color: the aging table
     (:func:`..core.table.table_pixels`); its shape is in the image's custom property
     ``lightfade_table``.
@@ -68,7 +70,7 @@ def write(copy, ager, lights, at_bake, restored=False):
     h, w = at_bake.shape[1:]
     rates = dose_rates(lights, at_bake.reshape(len(lights), -1), h * w, keys)
     rgba = np.zeros((h * w, 4), dtype=np.float32)
-    rgba[:, :len(keys)] = rates.T
+    rgba[:, :len(keys)] = rates.T / np.float32(ager.table.max_dose)
     rate = _image(RATE_PREFIX + copy.name, (w, h), True)
     write_rgba(rate, rgba)
 
@@ -146,7 +148,7 @@ def read(copy, original):
     codes = np.rint(read_rgba(props.key_image)[..., :3] * 255.0).astype(np.int32)
     key = (codes[..., 0] << 16) | (codes[..., 1] << 8) | codes[..., 2]
     H, W = key.shape
-    rate_map = read_rgba(props.rate_image)
+    rate_map = read_rgba(props.rate_image) * np.float32(info["max_dose"])
     rates = np.stack([resample(rate_map[..., s], (H, W)).reshape(-1) for s in range(S)])
     if original.shape[:2] != (H, W):
         raise AgingError(f"Aged material '{copy.name}': its albedo is {original.shape[1]} x "

@@ -274,30 +274,42 @@ def evaluate(table, texels, years, positions=None, out=None):
     n = sigma.shape[0]
     res = np.empty((n, 3), dtype=np.float32) if out is None else out
     root = np.float32(float(years) ** (1.0 / DOSE_POWER))
-    nodes = np.ascontiguousarray(table.values, dtype=np.float32).reshape(-1, 3)
-    T = table.T
+    # the values at dose nodes i and i + 1 are 24 adjacent bytes: one gather of an
+    # overlapping 24-byte view per vertex brings both
+    nodes = np.ascontiguousarray(table.values, dtype=np.float32).reshape(-1)
+    pairs = np.lib.stride_tricks.as_strided(
+        nodes.view(np.dtype((np.void, 24)))[:0] if nodes.size < 6 else
+        np.frombuffer(nodes.data, dtype=np.dtype((np.void, 24)), count=1),
+        shape=(max(nodes.size // 3 - 1, 0),), strides=(12,), writeable=False)
+    last = np.float32(table.T - 1)
     to_rgb = _to_rgb()
 
     def block(s0):
         s1 = min(s0 + _BLOCK, n)
-        pos = np.minimum(sigma[s0:s1] * root, np.float32(T - 1))
-        i = np.minimum(pos.astype(np.int32), T - 2)
-        f = (pos - i)[:, None]
-        change = np.zeros((s1 - s0, 3), dtype=np.float32)
+        k = s1 - s0
+        pos = sigma[s0:s1] * root
+        np.minimum(pos, last, out=pos)
+        i = pos.astype(np.int32)
+        np.minimum(i, table.T - 2, out=i)
+        f = pos
+        f -= i                                          # fractional node position
+        change = np.zeros((3, k), dtype=np.float32)     # planes: long inner loops
+        tmp = np.empty(k, dtype=np.float32)
         for v in range(rows.shape[0]):
-            idx = rows[v, s0:s1] + i
-            lo = nodes[idx]
-            hi = nodes[idx + 1]
-            hi -= lo
-            hi *= f
-            hi += lo                                    # v_i + f (v_i+1 - v_i)
-            if weights is not None:
-                hi *= weights[v, s0:s1, None]
-            change += hi
+            both = np.take(pairs, rows[v, s0:s1] + i).view(np.float32).reshape(k, 6)
+            lo, hi = both[:, :3], both[:, 3:]
+            for ch in range(3):                         # v_i + f (v_i+1 - v_i)
+                np.subtract(hi[:, ch], lo[:, ch], out=tmp)
+                tmp *= f
+                tmp += lo[:, ch]
+                if weights is not None:
+                    tmp *= weights[v, s0:s1]
+                change[ch] += tmp
         np.exp(change, out=change)
-        XYZ = change.T * texels.XYZ[:, s0:s1]           # (3, k)
-        rgb = into_gamut_planes(to_rgb @ XYZ)
-        res[s0:s1, :3] = rgb.T
+        change *= texels.XYZ[:, s0:s1]                  # aged XYZ
+        rgb = into_gamut_planes(to_rgb @ change)
+        for ch in range(3):
+            res[s0:s1, ch] = rgb[ch]
 
     starts = range(0, n, _BLOCK)
     if n > _BLOCK and _THREADS > 1:

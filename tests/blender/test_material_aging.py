@@ -203,3 +203,25 @@ def test_zero_years_renders_the_original_pixels(textured, tmp_path):
     _bake_and_age(years=0)
     after = _render(scene, tmp_path, "after.exr")
     assert np.abs(after - before).max() <= 1e-6
+
+
+@pytest.mark.slow
+def test_eevee_evaluates_the_same_aging(textured, tmp_path):
+    """EEVEE (the Material Preview's engine) renders the group as Cycles does: the same
+    fade between 0 and 40 years (GPUs may hold float textures in half precision)."""
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    _bake_and_age(years=0)
+    eevee = "BLENDER_EEVEE_NEXT" if bpy.app.version < (5, 0, 0) else "BLENDER_EEVEE"
+    fade = {}
+    for engine in ("CYCLES", eevee):
+        scene.render.engine = engine
+        frames = []
+        for years in (0.0, 40.0):
+            api.set_years(scene, years)
+            frames.append(_render(scene, tmp_path, f"{engine}{years}.exr"))
+        fade[engine] = np.median(delta_E_2000(lab(frames[0]), lab(frames[1])))
+    assert fade["CYCLES"] > 5
+    assert abs(fade[eevee] - fade["CYCLES"]) < 0.1 * fade["CYCLES"]

@@ -13,8 +13,9 @@ Stages (node names start with the stage; the group reads left to right):
 ``years``, ``uv``
     the scene's years; the exposure UV map.
 ``dose``
-    the rate map (lux·h per year per spectrum, bilinear) and the texel's fractional
-    dose node ``s = (T - 1) · min(1, (rate · years / D)**(1/3))``, ``i = min(floor s, T - 2)``.
+    the rate map (annual dose per spectrum as a fraction of the last node's, bilinear)
+    and the texel's fractional dose node ``s = (T - 1) · min(1, (rate · years)**(1/3))``,
+    ``i = min(floor s, T - 2)``.
 ``mix``
     the light-mix vertices (slots) and weights of :func:`..core.table.simplex_slots`.
 ``keys``
@@ -81,7 +82,7 @@ def _dose(g, spec, years, uv):
     total = rates[0]
     for r in rates[1:]:
         total = total + r
-    pos = ((total * years * (1.0 / spec.max_dose)) ** (1.0 / 3.0)) * float(spec.T - 1)
+    pos = ((total * years) ** (1.0 / 3.0)) * float(spec.T - 1)     # rates: per max_dose
     pos = pos.min(float(spec.T - 1))
     i = pos.floor().min(float(spec.T - 2))
     return rates, total, i, pos - i
