@@ -16,6 +16,7 @@ import traceback
 
 import bpy
 
+from ..output import plural
 from .steps import ACTIONS, check_overrides, dump_json
 from .files import Refused, write_text
 
@@ -29,6 +30,13 @@ def ensure_registered():
         return
     import addon_utils
 
+    # ``python -m lightfade_addon`` has imported the package already.  addon_utils takes
+    # a module without the load time it records (``__time__``) for one changed on disk,
+    # prints "module changed on disk: '.../__init__.py' reloading..." and reloads it;
+    # record the time it would have (what Blender does for its extensions' package).
+    package = sys.modules.get(ADDON_PACKAGE)
+    if package is not None and getattr(package, "__time__", 0) == 0 and package.__file__:
+        package.__time__ = os.path.getmtime(package.__file__)
     addon_utils.enable(ADDON_PACKAGE, default_set=False)
     if not hasattr(bpy.types.Scene, "lightfade"):
         raise Refused(f"could not enable the add-on '{ADDON_PACKAGE}' (see the messages above)")
@@ -79,7 +87,7 @@ def summary(action, rows):
     counts = {s: sum(r["status"] == s for r in rows) for s in ("done", "refused", "failed")}
     head = ", ".join(f"{v} {k}" for k, v in counts.items() if v)
     width = max(len(r["file"]) for r in rows)
-    lines = [f"lightfade {action}: {len(rows)} file(s): {head}",
+    lines = [f"lightfade {action}: {plural(len(rows), 'file')}: {head}",
              f"  {'status':8} {'seconds':>8}  {'file':{width}}  result"]
     for r in rows:
         lines.append(f"  {r['status']:8} {r['seconds']:8.1f}  {r['file']:{width}}  {r['result']}")
