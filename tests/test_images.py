@@ -153,13 +153,18 @@ class TestErrors:
             read_image(tmp_path / "notes.png")
         assert "\n" not in str(exc.value)
 
-    def test_truncated_file(self, tmp_path):
+    def test_truncated_file(self, tmp_path, capfd):
+        """One line naming the file, with libpng's reason in it; libpng (C) prints
+        nothing of its own."""
         write_image(tmp_path / "whole.png", _samples(64, 64, 3, "uint16"), None, "uint16")
         data = (tmp_path / "whole.png").read_bytes()
         (tmp_path / "cut.png").write_bytes(data[: len(data) // 2])
+        capfd.readouterr()
         with pytest.raises(ValueError, match=r"^cannot read '.*cut.png': ") as exc:
             read_image(tmp_path / "cut.png")
         assert "\n" not in str(exc.value)
+        assert "libpng error: IDAT: Read error: hit end of file" in str(exc.value)
+        assert capfd.readouterr() == ("", "")
 
     @pytest.mark.parametrize("suffix, dtype", [(".png", "half"), (".jpg", "uint16"),
                                                (".exr", "uint8")])

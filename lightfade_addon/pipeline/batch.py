@@ -30,13 +30,6 @@ def ensure_registered():
         return
     import addon_utils
 
-    # ``python -m lightfade_addon`` has imported the package already.  addon_utils takes
-    # a module without the load time it records (``__time__``) for one changed on disk,
-    # prints "module changed on disk: '.../__init__.py' reloading..." and reloads it;
-    # record the time it would have (what Blender does for its extensions' package).
-    package = sys.modules.get(ADDON_PACKAGE)
-    if package is not None and getattr(package, "__time__", 0) == 0 and package.__file__:
-        package.__time__ = os.path.getmtime(package.__file__)
     addon_utils.enable(ADDON_PACKAGE, default_set=False)
     if not hasattr(bpy.types.Scene, "lightfade"):
         raise Refused(f"could not enable the add-on '{ADDON_PACKAGE}' (see the messages above)")
