@@ -1,5 +1,7 @@
 """Image files through OpenImageIO: exact round trips, every format, metadata, errors."""
 
+import os
+
 import numpy as np
 import pytest
 from PIL import Image, ImageCms
@@ -165,6 +167,24 @@ class TestErrors:
         assert "\n" not in str(exc.value)
         assert "libpng error: IDAT: Read error: hit end of file" in str(exc.value)
         assert capfd.readouterr() == ("", "")
+
+    def test_what_a_library_says_about_a_file_it_reads_gets_through(self, tmp_path, capfd,
+                                                                      monkeypatch):
+        """Only a failed read folds the library's lines into its error."""
+        from lightfade_addon import images
+
+        write_image(tmp_path / "ok.png", _samples(4, 4, 3, "uint8"), None, "uint8")
+        real = images._read
+
+        def chatty(oiio, path):
+            os.write(2, b"libpng warning: iCCP: known incorrect sRGB profile\n")
+            return real(oiio, path)
+
+        monkeypatch.setattr(images, "_read", chatty)
+        capfd.readouterr()
+        rgb, _alpha, _info = read_image(tmp_path / "ok.png")
+        assert rgb.shape == (4, 4, 3)
+        assert capfd.readouterr().err == "libpng warning: iCCP: known incorrect sRGB profile\n"
 
     @pytest.mark.parametrize("suffix, dtype", [(".png", "half"), (".jpg", "uint16"),
                                                (".exr", "uint8")])

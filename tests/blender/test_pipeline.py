@@ -351,6 +351,8 @@ def test_age_bakes_ages_and_saves_to_output(lightfade, work):
     assert state["years"] == 12.5 and state["aged"].startswith("LF_Aged_Carpet") and state["aged_packed"]
     assert state["grids"] >= 1                           # render nodes never simulate
     assert "lightfade age: 1 file: 1 done" in proc.stdout
+    assert "good.blend: aged 1 material to 12.5 years" in proc.stdout
+    assert not_ours(proc.stdout + proc.stderr) == []     # no 'Info: Saved copy as ".good...'
     assert leftovers(work) == []
 
 
@@ -405,6 +407,8 @@ def test_render_years_writes_one_still_per_value(lightfade, work):
     assert young.max() > 0.05                            # the floor is lit
     assert np.abs(young - old).max() > 0.02              # and it faded
     assert not (work / "good_aged.blend").exists() and leftovers(work) == []
+    assert not_ours(proc.stdout + proc.stderr) == []     # 4.x: no "Fra:1 Mem:..." per step
+    assert "good.blend: 40 years -> " in proc.stdout
 
 
 def test_render_years_without_camera_is_refused(lightfade):
@@ -429,6 +433,7 @@ def test_batch_names_the_failures_and_finishes_the_rest(lightfade, work):
     assert lines[0] == "lightfade: missing.blend: no such file"
     assert lines[1].startswith("lightfade: bad.blend: not a .blend file (")
     assert lines[2].startswith("lightfade: empty.blend: nothing to age: no material")
+    assert not_ours(proc.stdout + proc.stderr) == []     # Blender's "Error: ..." is in ours
     table = proc.stdout[proc.stdout.index("lightfade age: 5 files: 2 done, 3 refused"):]
     rows = [x.split()[:3] for x in table.splitlines()[2:]]
     assert [r[0] for r in rows] == ["done", "refused", "refused", "refused", "done"]
