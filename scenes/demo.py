@@ -45,7 +45,6 @@ from scenes.demo_figures import (  # noqa: E402
     dose_label, write_contact_sheet, write_docs, write_gif, years_label, years_slug)
 from scenes.render import apply_view_settings, configure_render, render_still  # noqa: E402
 from scenes.tags import annual_doses, apply_tags, peak_annual_dose  # noqa: E402
-from lightfade_addon.output import maps_made, plural  # noqa: E402
 
 ADDON = "lightfade_addon"
 
@@ -168,6 +167,7 @@ def run_scene(name, out, preset, years=None, verbose=False):
         addon_utils.disable(ADDON, default_set=True)
     info = module.build(resolution=max(32, int(preset["texture"] * spec["texture_scale"])))
     api = _addon()
+    from lightfade_addon.output import maps_made, plural   # once enabled: no addon_utils warning
     scene = bpy.context.scene
     tags = apply_tags(scene)
     floor_cam = add_floor_camera() if name == "room" else None
@@ -287,16 +287,19 @@ def run_scene(name, out, preset, years=None, verbose=False):
 
 
 def outputs_line(name, outputs):
-    """What one scene wrote, every rendered frame counted: "room: 11 frames (5 years,
-    1 reveal, 5 of Camera.Dresser and Camera.Floor), contact_room.png, room.gif, room.blend"."""
+    """What one scene wrote, every rendered frame counted: "room: 11 frames rendered
+    (5 of the years, 1 reveal, 5 from Camera.Dresser and Camera.Floor), contact_room.png,
+    room.gif, room.blend"."""
+    from lightfade_addon.output import plural
+
     years, reveal = len(outputs["frames"]), len(outputs["reveal"])
     views = {cam: len(paths) for cam, paths in outputs["extra"].items() if paths}
-    parts = [plural(years, "year")] + ([f"{reveal} reveal"] if reveal else [])
+    parts = [f"{years} of the years"] + ([f"{reveal} reveal"] if reveal else [])
     if views:
-        parts.append(f"{sum(views.values())} of {' and '.join(views)}")
+        parts.append(f"{sum(views.values())} from {' and '.join(views)}")
     files = [Path(outputs[k]).name for k in ("contact", "gif", "blend") if k in outputs]
     total = years + reveal + sum(views.values())
-    return f"{name}: {plural(total, 'frame')} ({', '.join(parts)}), {', '.join(files)}"
+    return f"{name}: {plural(total, 'frame')} rendered ({', '.join(parts)}), {', '.join(files)}"
 
 
 def main(argv=None):
