@@ -155,7 +155,7 @@ class TextureAger:
             flat if encoding == "srgb" else
             _blockwise(flat, lambda b: srgb_encode(np.clip(b, 0, 1))), unmixer,
             max_keys=max(TABLE_ROWS // (M * T), 1))
-        say(0.85, f"change curves for {c.shape[0]} colours")
+        say(0.85, f"change curves for {c.shape[0]} colour{'s' * (c.shape[0] != 1)}")
         curves = self.grid.curves(c, log_initial(self.grid, unmixer, c))     # (U, M, T, 3)
         U, M, T, _ = curves.shape
         # Planar table over (colour, mix node, dose node): a texel at fractional position
