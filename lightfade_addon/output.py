@@ -121,8 +121,9 @@ class Captured:
         for fd, lines in self.lines.items():
             kept = [x for x in lines
                     if x not in drop and not any(p.fullmatch(x) for p in patterns)]
-            if kept:
-                os.write(fd, ("\n".join(kept) + "\n").encode("utf-8", "replace"))
+            data = ("\n".join(kept) + "\n").encode("utf-8", "replace") if kept else b""
+            while data:
+                data = data[os.write(fd, data):]
 
 
 @contextlib.contextmanager
@@ -130,15 +131,20 @@ def captured(fds=(1, 2)):
     """Catch what is written to file descriptors ``fds`` meanwhile (C code too).
 
     Yields a :class:`Captured`, filled when the block ends (also on an error); nothing
-    is written back unless the caller :meth:`~Captured.replay`\\ s it.
+    is written back unless the caller replays it (:meth:`Captured.replay`).  A
+    descriptor that is not open (Blender's UI on Windows has no console) is left alone.
     """
     result = Captured(fds)
     _flush()
     saved, files = {}, {}
     try:
         for fd in fds:
+            try:
+                copy = os.dup(fd)
+            except OSError:         # not open (Blender's UI on Windows has no console)
+                continue
+            saved[fd] = copy
             files[fd] = tempfile.TemporaryFile()
-            saved[fd] = os.dup(fd)
             os.dup2(files[fd].fileno(), fd)
         yield result
     finally:

@@ -83,6 +83,16 @@ class TestCaptured:
         os.write(2, b"after\n")                               # the descriptors are back
         assert capfd.readouterr().err == "after\n"
 
+    def test_a_descriptor_that_is_not_open_is_left_alone(self, capfd):
+        """Blender's UI on Windows runs without a console: nothing to catch, no error."""
+        closed = 987
+        with pytest.raises(OSError):
+            os.fstat(closed)
+        with captured((1, closed)) as out:
+            os.write(1, b"caught\n")
+        assert out.lines == {1: ["caught"], closed: []}
+        assert capfd.readouterr() == ("", "")
+
     def test_quiet_writes_back_all_but_the_noise(self, capfd):
         with quiet("save", "gpu"):
             os.write(1, (SEEN["save"][0] + "\n" + REAL[0] + "\n").encode())
