@@ -26,7 +26,7 @@ SEEN = {
 #: Real messages that must get through.
 REAL = ['Error: Cannot open file "/x/.a.lightfade-1.tmp.blend@" for writing: Permission denied',
         "EGL Error (0x3003): EGL_BAD_ALLOC: out of memory",
-        "Info: Total files 3 | Changed 1 | Failed 2 | see above",
+        "Info: Total files 3 | Changed 1 | Failed 2",
         "Fra:1 out of memory",
         'Error: File format is not supported in file "/tmp/bad.blend"',
         "libpng error: IDAT: Read error: hit end of file in png reader"]

@@ -60,7 +60,8 @@ def _draw_presets(layout, bake):
 def _draw_groups(layout, scene, emitters):
     box = layout.box()
     groups = group_emitters(scene, emitters)
-    box.label(text=f"{plural(len(groups), 'light group')} from {plural(len(emitters), 'emitter')}", icon="LIGHT")
+    box.label(text=f"{plural(len(groups), 'light group')} from "
+                   f"{plural(len(emitters), 'emitter')}", icon="LIGHT")
     for group in groups:
         spectrum, uv_filter, hours, days = group.key
         names = ", ".join(group.member_names)

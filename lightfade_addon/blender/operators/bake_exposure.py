@@ -9,9 +9,9 @@ line per bake in background mode.
 import bpy
 from bpy.props import BoolProperty
 
+from ...output import maps_made
 from ..bake import BakeCancelled, BakeSettings, ExposureBake, LightFadeBakeError, bake_exposure
 from ..bake import calibrate
-from ...output import maps_made
 from ..progress import WindowProgress
 from ..targets import format_problems, material_problems
 
