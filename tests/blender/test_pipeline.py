@@ -442,9 +442,11 @@ def test_batch_names_the_failures_and_finishes_the_rest(lightfade, work):
     assert probe(work / "aged" / "again.blend")["years"] == 10.0
 
 
-def test_an_image_that_cannot_be_read_is_one_line_naming_it(lightfade, lf, work):
+@pytest.mark.parametrize("case", ["truncated", "missing"])
+def test_an_image_that_cannot_be_read_is_one_line_naming_it(lightfade, lf, work, case):
     """A truncated PNG: the refusal names the image, the file and libpng's reason, and
-    nothing else is printed (libpng writes from C, before any line of ours)."""
+    nothing else is printed (libpng writes from C, before any line of ours); a missing
+    one is said to be missing."""
     from PIL import Image
 
     Image.fromarray(np.full((32, 32, 3), 128, np.uint8)).save(work / "whole.png")
@@ -454,12 +456,17 @@ def test_an_image_that_cannot_be_read_is_one_line_naming_it(lightfade, lf, work)
     node = bpy.data.materials["Carpet"].node_tree.nodes["Image Texture"]
     node.image = bpy.data.images.load(str(work / "cut.png"))
     bpy.ops.wm.save_as_mainfile(filepath=str(work / "cut.blend"), copy=True)
+    if case == "missing":
+        (work / "cut.png").unlink()
     proc = lightfade("age", "cut.blend", "--years", "5")
     assert proc.returncode == 1
     assert not_ours(proc.stdout) == [] and not_ours(proc.stderr) == []
     [line] = refusals(proc.stderr)
-    assert line.startswith("lightfade: cut.blend: Image 'cut.png' of material 'Carpet' cannot "
-                           f"be read from {work / 'cut.png'} (libpng error: ")
+    image = "lightfade: cut.blend: Image 'cut.png' of material 'Carpet'"
+    if case == "missing":
+        assert line.startswith(f"{image} has no pixels: the file is missing? Relink it")
+    else:
+        assert line.startswith(f"{image} cannot be read from {work / 'cut.png'} (libpng error: ")
 
 
 # -------------------------------------------------------------------------------- usage
