@@ -22,6 +22,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .output import captured
+
 __all__ = ["ImageInfo", "read_image", "write_image", "FORMATS", "COLOUR_METADATA"]
 
 #: File extension -> (OpenImageIO format name, sample types it can be written with).
@@ -133,20 +135,16 @@ def read_image(path):
     if path.is_dir():
         raise _fail(path, "it is a folder, not an image")
     oiio = _oiio(path, "read")
-    inp = oiio.ImageInput.open(str(path), _unassociated_alpha(oiio))
-    if inp is None:
-        raise _fail(path, _reason(oiio.geterror(), "not an image file OpenImageIO reads"))
+    # The format libraries print their own complaint about a bad file on stderr
+    # ("libpng error: IDAT: Read error: hit end of file in png reader"): it goes into
+    # our one line instead, and is written out as it came when the file reads well.
     try:
-        spec = inp.spec()
-        dtype = _stored_dtype(spec.format)
-        pixels = inp.read_image(0, 0, 0, spec.nchannels, dtype)
-        if pixels is None or inp.has_error:
-            raise _fail(path, _reason(inp.geterror(), "damaged or truncated image"))
-        metadata = {p.name: p.value for p in spec.extra_attribs if p.name in COLOUR_METADATA}
-        orientation = spec.get_int_attribute("Orientation", 1)
-        fmt = inp.format_name()
-    finally:
-        inp.close()
+        with captured((2,)) as library:
+            pixels, spec, dtype, metadata, orientation, fmt = _read(oiio, path)
+    except _Unreadable as err:
+        said = "; ".join(x.strip() for x in library.all_lines())
+        raise _fail(path, f"{err} ({said})" if said else str(err)) from None
+    library.replay()
     pixels = np.asarray(pixels).reshape(spec.height, spec.width, spec.nchannels)
     if orientation != 1:
         pixels = _reorient(oiio, pixels, spec, orientation)
@@ -162,6 +160,29 @@ def read_image(path):
     mode = "".join("A" if k == a else names[k][:1] for k in range(spec.nchannels))
     h, w = rgb.shape[:2]
     return rgb, alpha, ImageInfo(fmt, dtype, mode, w, h, metadata)
+
+
+class _Unreadable(Exception):
+    """OpenImageIO could not read the file; the message says why."""
+
+
+def _read(oiio, path):
+    """The first subimage's pixels as stored, its spec, sample type, colour metadata,
+    orientation and format name; raises :class:`_Unreadable`."""
+    inp = oiio.ImageInput.open(str(path), _unassociated_alpha(oiio))
+    if inp is None:
+        raise _Unreadable(_reason(oiio.geterror(), "not an image file OpenImageIO reads"))
+    try:
+        spec = inp.spec()
+        dtype = _stored_dtype(spec.format)
+        pixels = inp.read_image(0, 0, 0, spec.nchannels, dtype)
+        if pixels is None or inp.has_error:
+            raise _Unreadable(_reason(inp.geterror(), "damaged or truncated image"))
+        metadata = {p.name: p.value for p in spec.extra_attribs if p.name in COLOUR_METADATA}
+        return (pixels, spec, dtype, metadata, spec.get_int_attribute("Orientation", 1),
+                inp.format_name())
+    finally:
+        inp.close()
 
 
 def _unassociated_alpha(oiio):

@@ -167,13 +167,13 @@ def run_scene(name, out, preset, years=None, verbose=False):
         addon_utils.disable(ADDON, default_set=True)
     info = module.build(resolution=max(32, int(preset["texture"] * spec["texture_scale"])))
     api = _addon()
+    from lightfade_addon.output import maps_made, plural   # once enabled: no addon_utils warning
     scene = bpy.context.scene
     tags = apply_tags(scene)
     floor_cam = add_floor_camera() if name == "room" else None
     timings["build"] = time.perf_counter() - t0
     mats = ", ".join(f"{m} {v['recipe']} BW{v['blue_wool']}" for m, v in tags["materials"].items())
-    log(f"{name}: built, {len(tags['materials'])} aging materials "
-        f"({mats}) "
+    log(f"{name}: built, {plural(len(tags['materials']), 'aging material')} ({mats}) "
         f"... {timings['build']:.1f} s")
     for em, sch in tags["emitters"].items():
         if sch is None:
@@ -189,10 +189,9 @@ def run_scene(name, out, preset, years=None, verbose=False):
                               spec.get("max_bake_resolution", preset["bake_resolution"]))
         result = api.bake(scene, resolution=bake_resolution, samples=preset["bake_samples"],
                           margin=preset["bake_margin"])
-    n_maps = sum(len(v) for v in result["maps"].values())
     timings["bake"] = time.perf_counter() - t0
-    log(f"{name}: baking {n_maps} maps ({len(result['maps'])} objects x {len(result['emitters'])} emitters, "
-        f"{bake_resolution} px, {preset['bake_samples']} samples) ... {timings['bake']:.1f} s")
+    log(f"{name}: baked {maps_made(result)}, {bake_resolution} px, "
+        f"{plural(preset['bake_samples'], 'sample')} ... {timings['bake']:.1f} s")
     for msg in result.get("skipped", []):
         log(f"{name}:   bake skipped: {msg}")
 
@@ -249,8 +248,9 @@ def run_scene(name, out, preset, years=None, verbose=False):
         module.set_reveal(False)
     timings["render"] = sum(renders)
     timings["set_years"] = sum(set_times)
-    log(f"{name}: {len(renders)} renders {preset['size'][0]}x{preset['size'][1]}, {preset['samples']} samples "
-        f"... {timings['render']:.1f} s (set_years total {timings['set_years']:.2f} s)")
+    log(f"{name}: {plural(len(renders), 'render')} {preset['size'][0]}x{preset['size'][1]}, "
+        f"{plural(preset['samples'], 'sample')} ... {timings['render']:.1f} s "
+        f"(set_years total {timings['set_years']:.2f} s)")
     frames, reveal_frames = groups["years"], groups["reveal"]
     extra = {"Camera.Dresser": groups["dresser"], "Camera.Floor": groups["floor"]} if name == "room" else {}
 
@@ -284,6 +284,22 @@ def run_scene(name, out, preset, years=None, verbose=False):
 
 
 # ----------------------------------------------------------------------- CLI
+
+
+def outputs_line(name, outputs):
+    """What one scene wrote, every rendered frame counted: "room: 11 frames rendered
+    (5 of the years, 1 reveal, 5 from Camera.Dresser and Camera.Floor), contact_room.png,
+    room.gif, room.blend"."""
+    from lightfade_addon.output import plural
+
+    years, reveal = len(outputs["frames"]), len(outputs["reveal"])
+    views = {cam: len(paths) for cam, paths in outputs["extra"].items() if paths}
+    parts = [f"{years} of the years"] + ([f"{reveal} reveal"] if reveal else [])
+    if views:
+        parts.append(f"{sum(views.values())} from {' and '.join(views)}")
+    files = [Path(outputs[k]).name for k in ("contact", "gif", "blend") if k in outputs]
+    total = years + reveal + sum(views.values())
+    return f"{name}: {plural(total, 'frame')} rendered ({', '.join(parts)}), {', '.join(files)}"
 
 
 def main(argv=None):
@@ -323,9 +339,7 @@ def main(argv=None):
     log(f"  total {total:.1f} s ({total / 60:.1f} min)")
     log(f"  outputs in {out}/")
     for name, r in results.items():
-        o = r["outputs"]
-        log(f"    {name}: {len(o['frames'])} frames, contact sheet {Path(o['contact']).name}"
-            f"{', ' + Path(o['gif']).name if 'gif' in o else ''}, {Path(o['blend']).name}")
+        log(f"    {outputs_line(name, r['outputs'])}")
     for d in docs:
         log(f"  docs: {d} ({os.path.getsize(d) / 1000:.0f} kB)")
     return dict(results=results, total=total, out=str(out), docs=[str(d) for d in docs])

@@ -318,6 +318,18 @@ class TestErrors:
         new = [p for p in tmp_path.rglob("*") if p.is_file() and p not in hashes]
         assert new == []                                         # nothing written
 
+    def test_a_truncated_png_is_one_line_naming_it(self, cache, tmp_path, capfd):
+        """libpng's own complaint (C, on file descriptor 2) is part of our line."""
+        data = make_photo(tmp_path).read_bytes()
+        (tmp_path / "cut.png").write_bytes(data[: len(data) // 2])
+        capfd.readouterr()
+        code = cli.main(["age-image", str(tmp_path / "cut.png"), "--years", "5"])
+        out, err = capfd.readouterr()
+        assert code == 2 and out == ""
+        [line] = err.splitlines()
+        assert line.startswith(f"lightfade: error: cannot read {str(tmp_path / 'cut.png')!r}: ")
+        assert "libpng error: IDAT: Read error: hit end of file" in line
+
     def test_in_a_real_process(self, early):
         folder, res = early("real process")
         assert res.returncode == 2

@@ -1,5 +1,7 @@
 """Image files through OpenImageIO: exact round trips, every format, metadata, errors."""
 
+import os
+
 import numpy as np
 import pytest
 from PIL import Image, ImageCms
@@ -153,13 +155,36 @@ class TestErrors:
             read_image(tmp_path / "notes.png")
         assert "\n" not in str(exc.value)
 
-    def test_truncated_file(self, tmp_path):
+    def test_truncated_file(self, tmp_path, capfd):
+        """One line naming the file, with libpng's reason in it; libpng (C) prints
+        nothing of its own."""
         write_image(tmp_path / "whole.png", _samples(64, 64, 3, "uint16"), None, "uint16")
         data = (tmp_path / "whole.png").read_bytes()
         (tmp_path / "cut.png").write_bytes(data[: len(data) // 2])
+        capfd.readouterr()
         with pytest.raises(ValueError, match=r"^cannot read '.*cut.png': ") as exc:
             read_image(tmp_path / "cut.png")
         assert "\n" not in str(exc.value)
+        assert "libpng error: IDAT: Read error: hit end of file" in str(exc.value)
+        assert capfd.readouterr() == ("", "")
+
+    def test_what_a_library_says_about_a_file_it_reads_gets_through(self, tmp_path, capfd,
+                                                                      monkeypatch):
+        """Only a failed read folds the library's lines into its error."""
+        from lightfade_addon import images
+
+        write_image(tmp_path / "ok.png", _samples(4, 4, 3, "uint8"), None, "uint8")
+        real = images._read
+
+        def chatty(oiio, path):
+            os.write(2, b"libpng warning: iCCP: known incorrect sRGB profile\n")
+            return real(oiio, path)
+
+        monkeypatch.setattr(images, "_read", chatty)
+        capfd.readouterr()
+        rgb, _alpha, _info = read_image(tmp_path / "ok.png")
+        assert rgb.shape == (4, 4, 3)
+        assert capfd.readouterr().err == "libpng warning: iCCP: known incorrect sRGB profile\n"
 
     @pytest.mark.parametrize("suffix, dtype", [(".png", "half"), (".jpg", "uint16"),
                                                (".exr", "uint8")])

@@ -19,10 +19,13 @@ is the socket LightFade ages.  Then :func:`material_plan` picks the albedo path:
 
 from __future__ import annotations
 
+import os
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..output import captured
 from .exposure import exposure_problem, exposure_uv
 from .pixels import readable_colourspace
 
@@ -149,22 +152,47 @@ def upstream_images(socket, limit=256):
 
 
 def image_problem(material, image):
-    """One line if ``image`` has no pixels Cycles or LightFade could read, else None."""
+    """One line if ``image`` has no pixels Cycles or LightFade could read, else None.
+
+    What the image libraries print about a damaged file ("libpng error: IDAT: Read
+    error: hit end of file in png reader") is said in that line, not before it.
+    """
     if image.source in ("FILE", "SEQUENCE", "TILED") and image.packed_file is None:
-        if image.source != "TILED" and not _has_pixels(image):
-            return (f"Image '{image.name}' of material '{material.name}' has no pixels: the file "
-                    "is missing? Relink it (File > External Data > Find Missing Files) or pack it")
+        if image.source == "TILED":
+            return None
+        loaded, said = _load(image)
+        if loaded:
+            return None
+        path = image.filepath_from_user()
+        if os.path.isfile(path):
+            why = f" ({said})" if said else ""
+            return (f"Image '{image.name}' of material '{material.name}' cannot be read from "
+                    f"{path}{why}: save it again, or relink it (File > External Data > "
+                    "Find Missing Files)")
+        return (f"Image '{image.name}' of material '{material.name}' has no pixels: the file "
+                "is missing? Relink it (File > External Data > Find Missing Files) or pack it")
     return None
 
 
-def _has_pixels(image):
+#: Blender's log prefix on a library's complaint: "00:00.507  image.read  | ERROR ".
+_LOG_PREFIX = re.compile(r"^(\d+:\d+\.\d+\s+\S+\s+)?\|?\s*(ERROR\s+)?")
+
+
+def _load(image):
+    """``(has pixels, the first line the libraries printed while loading it)``; what they
+    print is kept off the terminal when the load fails and written out when it works."""
     if image.has_data:
-        return True
-    try:
-        image.pixels[0]
-    except Exception:  # noqa: BLE001 (Blender raises various errors for missing files)
-        return False
-    return image.has_data
+        return True, ""
+    with captured((2, 1)) as said:      # stderr first: where the libraries complain
+        try:
+            image.pixels[0]
+        except Exception:  # noqa: BLE001 (Blender raises various errors for missing files)
+            pass
+        loaded = bool(image.has_data)
+    if loaded:
+        said.replay()
+    lines = [_LOG_PREFIX.sub("", x).strip() for x in said.all_lines()]
+    return loaded, next((x for x in lines if x), "")
 
 
 def _uv_name(obj, node):

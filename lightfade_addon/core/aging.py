@@ -153,7 +153,7 @@ class TextureAger:
             flat if encoding == "srgb" else
             _blockwise(flat, lambda b: srgb_encode(np.clip(b, 0, 1))), unmixer,
             max_keys=max_keys(S, self.grid.q, T))
-        say(0.85, f"change curves for {c.shape[0]} colours")
+        say(0.85, f"change curves for {c.shape[0]} colour{'s' * (c.shape[0] != 1)}")
         curves = self.grid.curves(c, log_initial(self.grid, unmixer, c))     # (U, M, T, 3)
         self.table = AgingTable.from_curves(curves, self.grid.max_dose, S, self.grid.q)
         del curves

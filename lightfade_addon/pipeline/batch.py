@@ -16,6 +16,7 @@ import traceback
 
 import bpy
 
+from ..output import plural
 from .steps import ACTIONS, check_overrides, dump_json
 from .files import Refused, write_text
 
@@ -79,7 +80,7 @@ def summary(action, rows):
     counts = {s: sum(r["status"] == s for r in rows) for s in ("done", "refused", "failed")}
     head = ", ".join(f"{v} {k}" for k, v in counts.items() if v)
     width = max(len(r["file"]) for r in rows)
-    lines = [f"lightfade {action}: {len(rows)} file(s): {head}",
+    lines = [f"lightfade {action}: {plural(len(rows), 'file')}: {head}",
              f"  {'status':8} {'seconds':>8}  {'file':{width}}  result"]
     for r in rows:
         lines.append(f"  {r['status']:8} {r['seconds']:8.1f}  {r['file']:{width}}  {r['result']}")

@@ -8,9 +8,12 @@ backup only when it saves over an existing file; it never does here, so none is 
 
 from __future__ import annotations
 
+import contextlib
 import os
 
 import bpy
+
+from ..output import NOISE, captured
 
 
 class Refused(Exception):
@@ -29,13 +32,32 @@ def open_blend(path):
     if not os.path.isfile(path):
         raise Refused("not a file (a folder?)")
     try:
-        bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path), load_ui=False)
+        with _said_once("open"):
+            bpy.ops.wm.open_mainfile(filepath=os.path.abspath(path), load_ui=False)
     except RuntimeError as err:
         if _looks_like_blend(path):
             raise Refused(f"Blender {bpy.app.version_string} cannot read this .blend file "
                           f"({_first_line(err)}): saved by a newer Blender?") from None
         raise Refused(f"not a .blend file ({_first_line(err)})") from None
     return bpy.context.scene
+
+
+@contextlib.contextmanager
+def _said_once(kind):
+    """Run a Blender operator with its known noise (:data:`..output.NOISE` ``[kind]``)
+    kept off the terminal; the report of a RuntimeError it raises, which Blender prints
+    too ("Error: File format is not supported ..."), is left to the caller's one line.
+    Anything else it prints is written out when it returns."""
+    said, drop = None, ()
+    try:
+        with captured() as said:
+            yield
+    except RuntimeError as err:
+        drop = (_first_line(err), f"Error: {_first_line(err)}")
+        raise
+    finally:
+        if said is not None:
+            said.replay(NOISE[kind], drop)
 
 
 #: How a .blend file starts: plain, gzip- or zstd-compressed.
@@ -110,8 +132,9 @@ def save_blend(path):
     tmp = _temporary(path)
     _remove(tmp)  # an existing file would make Blender write a .blend1 backup of it
     try:
-        bpy.ops.wm.save_as_mainfile(filepath=tmp, copy=True, relative_remap=True,
-                                    check_existing=False)
+        with _said_once("save"):   # not 'Info: Saved copy as ".x.lightfade-1.tmp.blend"'
+            bpy.ops.wm.save_as_mainfile(filepath=tmp, copy=True, relative_remap=True,
+                                        check_existing=False)
         os.replace(tmp, path)
     except (RuntimeError, OSError) as err:
         raise Refused(f"could not write {path} ({_first_line(err)})") from None

@@ -15,7 +15,9 @@ import os
 import bpy
 
 from .. import api
+from ..output import maps_made, plural, quiet
 from ..blender.bake import LightFadeBakeError
+from ..blender.targets import format_problems, material_problems
 from .files import Refused, open_blend, output_blend, save_blend, save_render
 from .info import as_text, gather, needs_bake, target_objects
 from .parser import BAKE_FLAGS
@@ -65,14 +67,21 @@ def _apply_overrides(scene, args):
 
 
 def _bake(scene, objects, args, say):
+    # what Age would refuse whatever the bake (an image that cannot be read ...), as the
+    # Bake operator does: before any Cycles work, which would only print the image
+    # library's complaint ahead of the refusal
+    problems = material_problems(scene, objects)
+    if problems:
+        raise Refused(_one_line(format_problems(problems)))
     _apply_overrides(scene, args)
     settings = ", ".join(f"{flag[2:]} {getattr(*_setting(scene, path)[:2])}"
                          for flag, path, *_rest in BAKE_FLAGS)
-    say(f"baking {len(objects)} object(s) ({settings})")
+    say(f"baking {plural(len(objects), 'object')} ({settings})")
     try:
         result = api.bake(scene, objects=objects)
     except LightFadeBakeError as err:
         raise Refused(_one_line(err)) from None
+    say(f"baked {maps_made(result)}")
     return sum(len(m) for m in result["maps"].values())
 
 
@@ -104,7 +113,7 @@ def _age(scene, years, say):
         images = api.age_scene(scene, years=years)
     except api.AgingError as err:
         raise Refused(_one_line(err)) from None
-    say(f"aged {len(images)} material(s) to {years:g} years")
+    say(f"aged {plural(len(images), 'material')} to {plural(years, 'year')}")
     return len(images)
 
 
@@ -120,7 +129,7 @@ def do_bake(path, args, say):
     scene = open_blend(path)
     n = _bake(scene, _targets_or_refuse(scene), args, say)
     save_blend(out)
-    return f"{n} map(s) -> {out}"
+    return f"{plural(n, 'map')} -> {out}"
 
 
 def do_age(path, args, say):
@@ -129,8 +138,8 @@ def do_age(path, args, say):
     baked = _bake_if_needed(scene, args, say)
     n = _age(scene, args.years, say)
     save_blend(out)
-    made = f"baked {baked} map(s), " if baked else ""
-    return f"{made}{n} material(s) at {args.years:g} y -> {out}"
+    made = f"baked {plural(baked, 'map')}, " if baked else ""
+    return f"{made}{plural(n, 'material')} at {args.years:g} y -> {out}"
 
 
 def do_render_years(path, args, say):
@@ -153,10 +162,11 @@ def do_render_years(path, args, say):
             raise Refused(_one_line(err)) from None
         target = os.path.join(os.path.abspath(args.output),
                               f"{stem}_{_years_text(years)}y{scene.render.file_extension}")
-        bpy.ops.render.render(write_still=False, scene=scene.name)
+        with quiet("render", "gpu"):   # not 4.x's status lines, nor EGL's with no display
+            bpy.ops.render.render(write_still=False, scene=scene.name)
         written.append(save_render(scene, target))
-        say(f"{years:g} years -> {target}")
-    return f"{len(written)} still(s) -> {os.path.abspath(args.output)}"
+        say(f"{plural(years, 'year')} -> {target}")
+    return f"{plural(len(written), 'still')} -> {os.path.abspath(args.output)}"
 
 
 def do_info(path, args, say):
@@ -168,7 +178,7 @@ def do_info(path, args, say):
     else:
         print(as_text(report), flush=True)
     n = len(report["would_age"])
-    return f"{n} material(s) would age" if n else "nothing to age"
+    return f"{plural(n, 'material')} would age" if n else "nothing to age"
 
 
 ACTIONS = {"bake": do_bake, "age": do_age, "render-years": do_render_years, "info": do_info}

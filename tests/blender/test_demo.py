@@ -116,6 +116,21 @@ def test_tags_become_lightfade_settings_on_a_small_room(blender):
     assert bpy.context.scene.world.lightfade.hours_per_day == 10.0
 
 
+def test_the_summary_counts_every_frame_rendered():
+    """The room renders 5 years, the reveal, 3 dresser and 2 floor views: 11 frames."""
+    outputs = dict(frames=[f"room_{y}y.png" for y in (0, 1, 3, 10, 25)],
+                   reveal=["room_reveal_25y.png"],
+                   extra={"Camera.Dresser": ["d0.png", "d25.png", "dr.png"],
+                          "Camera.Floor": ["f0.png", "f25.png"]},
+                   contact="/o/contact_room.png", gif="/o/room.gif", blend="/o/room.blend")
+    assert demo.outputs_line("room", outputs) == (
+        "room: 11 frames rendered (5 of the years, 1 reveal, 5 from Camera.Dresser and "
+        "Camera.Floor), contact_room.png, room.gif, room.blend")
+    one = dict(frames=["g0.png"], reveal=[], extra={}, contact="/o/c.png", blend="/o/g.blend")
+    assert demo.outputs_line("gallery", one) == (
+        "gallery: 1 frame rendered (1 of the years), c.png, g.blend")
+
+
 def test_labels():
     assert demo_figures.years_label(0) == "0 years"
     assert demo_figures.years_label(1) == "1 year"

@@ -12,7 +12,11 @@ as soon as the scene files exist, beside the module's tests; checked last):
   ``bpy.utils.register_cli_command`` and calls it with ``ARGS`` as a list of strings,
   which is what Blender's ``-c`` does (``bpy_cli_command_exec``), and exits with the int
   it returns (:func:`test_usage_error_in_a_real_process`);
-* ``python -m lightfade_addon scene ARGS`` (:func:`test_info_json_in_a_real_process`).
+* ``python -m lightfade_addon scene ARGS`` (:func:`test_info_json_in_a_real_process`,
+  :func:`test_a_denoised_bake_in_a_real_process_prints_only_its_own_lines`).
+
+What Blender prints from C (EGL, the compositor's status lines, a save's report) goes
+straight to the file descriptors: only a process of its own shows all of it.
 
 Scenes are tiny: the floor scene of conftest.py (an 8x8 albedo) with 64 px maps,
 2 samples and 16x16 renders.
@@ -23,6 +27,7 @@ import functools
 import io
 import json
 import os
+import re
 import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -146,9 +151,11 @@ REAL = "pipeline: real processes"
 
 def real_processes(src, jobs, folder):
     """Each entry point in a real process, each in a fresh copy of the scenes:
-    ``python -m lightfade_addon scene info good.blend missing.blend --json`` and a usage
-    error through ``blender -c lightfade``.  ``{name: (folder, process)}``."""
+    ``python -m lightfade_addon scene info good.blend missing.blend --json``, a denoised
+    bake (``--quality preview``) and a usage error through ``blender -c lightfade``.
+    ``{name: (folder, process)}``."""
     runs = {"info --json": ("python -m", ("info", "good.blend", "missing.blend", "--json")),
+            "bake denoised": ("python -m", ("bake", "good.blend", "--quality", "preview")),
             "usage error": ("blender -c", ("bake", "good.blend", "--resolution", "3"))}
 
     def one(name):
@@ -227,6 +234,16 @@ def refusals(stderr):
     return [x for x in stderr.splitlines() if x.startswith("lightfade: ")]
 
 
+#: A line LightFade writes: progress ("lightfade [1/2] a.blend: start", "LightFade: baked
+#: Floor <- Sun ..."), a refusal, the summary and its table's rows.
+OURS = re.compile(r"(lightfade[ :]|LightFade: |  (status|done|refused|failed) ).*")
+
+
+def not_ours(text):
+    """The lines of ``text`` that LightFade did not write (Blender's, a library's)."""
+    return [x for x in text.splitlines() if not OURS.fullmatch(x)]
+
+
 # ------------------------------------------------------------------------- registration
 
 
@@ -288,7 +305,7 @@ def test_info_json_to_a_file(lightfade, work):
     assert proc.returncode == 0, proc.stderr[-2000:]
     report, = json.loads((work / "reports" / "info.json").read_text())["files"]
     assert report["file"] == str(work / "empty.blend") and report["would_age"] == []
-    assert "lightfade info: 1 file(s): 1 done" in proc.stdout
+    assert "lightfade info: 1 file: 1 done" in proc.stdout
     assert leftovers(work) == []
 
 
@@ -336,7 +353,9 @@ def test_age_bakes_ages_and_saves_to_output(lightfade, work):
     assert state["maps"] == {"Sun": [64, 64]}
     assert state["years"] == 12.5 and state["aged"].startswith("LF_Aged_Carpet") and state["aged_packed"]
     assert state["grids"] >= 1                           # render nodes never simulate
-    assert "lightfade age: 1 file(s): 1 done" in proc.stdout
+    assert "lightfade age: 1 file: 1 done" in proc.stdout
+    assert "good.blend: aged 1 material to 12.5 years" in proc.stdout
+    assert not_ours(proc.stdout + proc.stderr) == []     # no 'Info: Saved copy as ".good...'
     assert leftovers(work) == []
 
 
@@ -391,6 +410,8 @@ def test_render_years_writes_one_still_per_value(lightfade, work):
     assert young.max() > 0.05                            # the floor is lit
     assert np.abs(young - old).max() > 0.02              # and it faded
     assert not (work / "good_aged.blend").exists() and leftovers(work) == []
+    assert not_ours(proc.stdout + proc.stderr) == []     # 4.x: no "Fra:1 Mem:..." per step
+    assert "good.blend: 40 years -> " in proc.stdout
 
 
 def test_render_years_without_camera_is_refused(lightfade):
@@ -415,12 +436,40 @@ def test_batch_names_the_failures_and_finishes_the_rest(lightfade, work):
     assert lines[0] == "lightfade: missing.blend: no such file"
     assert lines[1].startswith("lightfade: bad.blend: not a .blend file (")
     assert lines[2].startswith("lightfade: empty.blend: nothing to age: no material")
-    table = proc.stdout[proc.stdout.index("lightfade age: 5 file(s): 2 done, 3 refused"):]
+    assert not_ours(proc.stdout + proc.stderr) == []     # Blender's "Error: ..." is in ours
+    table = proc.stdout[proc.stdout.index("lightfade age: 5 files: 2 done, 3 refused"):]
     rows = [x.split()[:3] for x in table.splitlines()[2:]]
     assert [r[0] for r in rows] == ["done", "refused", "refused", "refused", "done"]
     assert [r[2] for r in rows] == names
     assert leftovers(work) == []
     assert probe(work / "aged" / "again.blend")["years"] == 10.0
+
+
+@pytest.mark.parametrize("case", ["truncated", "missing"])
+def test_an_image_that_cannot_be_read_is_one_line_naming_it(lightfade, lf, work, case):
+    """A truncated PNG: the refusal names the image, the file and libpng's reason, and
+    nothing else is printed (libpng writes from C, before any line of ours); a missing
+    one is said to be missing."""
+    from PIL import Image
+
+    Image.fromarray(np.full((32, 32, 3), 128, np.uint8)).save(work / "whole.png")
+    data = (work / "whole.png").read_bytes()
+    (work / "cut.png").write_bytes(data[:len(data) // 2])
+    _scene(lf)
+    node = bpy.data.materials["Carpet"].node_tree.nodes["Image Texture"]
+    node.image = bpy.data.images.load(str(work / "cut.png"))
+    bpy.ops.wm.save_as_mainfile(filepath=str(work / "cut.blend"), copy=True)
+    if case == "missing":
+        (work / "cut.png").unlink()
+    proc = lightfade("age", "cut.blend", "--years", "5")
+    assert proc.returncode == 1
+    assert not_ours(proc.stdout) == [] and not_ours(proc.stderr) == []
+    [line] = refusals(proc.stderr)
+    image = "lightfade: cut.blend: Image 'cut.png' of material 'Carpet'"
+    if case == "missing":
+        assert line.startswith(f"{image} has no pixels: the file is missing? Relink it")
+    else:
+        assert line.startswith(f"{image} cannot be read from {work / 'cut.png'} (libpng error: ")
 
 
 # -------------------------------------------------------------------------------- usage
@@ -478,6 +527,24 @@ def test_info_json_in_a_real_process(files, early_jobs):
     assert proc.returncode == 1, proc.stderr[-2000:]
     report, missing = json.loads(proc.stdout)["files"]      # stdout is the JSON only
     _check_info_json(report, missing, work)
+    # no "module changed on disk: '.../__init__.py' reloading...", no "Read blend: ...",
+    # no traceback, no "Error: ..." of Blender's beside our refusal
+    assert not_ours(proc.stderr) == []
+    assert refusals(proc.stderr) == ["lightfade: missing.blend: no such file"]
+
+
+def test_a_denoised_bake_in_a_real_process_prints_only_its_own_lines(blender, files, early_jobs):
+    """No "EGL Error (0x3009): EGL_BAD_MATCH" (5.x: the compositor that denoises tried
+    the GPU), no "Fra:1 Mem: ... | Compositing" (4.x), no 'Info: Saved copy as
+    ".good_baked.lightfade-1.tmp.blend"'; the counts say what was made."""
+    work, proc = early_jobs.result(REAL, None)["bake denoised"]
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+    assert proc.stderr == ""
+    assert not_ours(proc.stdout) == []
+    assert "good.blend: baking 1 object (quality PREVIEW," in proc.stdout
+    assert "good.blend: baked 1 map (1 object x 1 light group)" in proc.stdout
+    assert "lightfade bake: 1 file: 1 done" in proc.stdout
+    assert probe(work / "good_baked.blend")["maps"] == {"Sun": [64, 64]}
 
 
 def test_usage_error_in_a_real_process(files, early_jobs):

@@ -28,6 +28,7 @@ import tempfile
 import bpy
 import numpy as np
 
+from ...output import quiet
 from .common import TEMP_PREFIX
 
 
@@ -165,6 +166,11 @@ def _temporary_scene(width, height):
         scene.render.resolution_percentage = 100
         scene.render.image_settings.file_format = "OPEN_EXR"
         scene.render.image_settings.color_depth = "32"
+        # A new scene's compositor runs on the GPU from 5.0 on; headless, making its
+        # context fails (three "EGL Error (0x3009): EGL_BAD_MATCH" lines on stderr) before
+        # it falls back to the CPU.  OIDN gives the same result on the CPU, at once.
+        if hasattr(scene.render, "compositor_device"):
+            scene.render.compositor_device = "CPU"
         tree, out = _tree(scene)
         yield scene, tree, out
     finally:
@@ -201,7 +207,8 @@ def denoise(rgb, guide=None):
                 images.append(albedo.image)
                 tree.links.new(albedo.outputs["Image"], node.inputs["Albedo"])
             tree.links.new(node.outputs["Image"], out.inputs[0])
-            bpy.ops.render.render(scene=scene.name)
+            with quiet("render"):     # 4.x: a status line per compositor operation
+                bpy.ops.render.render(scene=scene.name)
             bpy.data.images["Render Result"].save_render(path, scene=scene)
         result = bpy.data.images.load(path)
         images.append(result)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import bpy
 
+from ...output import plural
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, luminance
 from .emitters import find_emitters, group_emitters, world_counts
@@ -59,7 +60,8 @@ def _draw_presets(layout, bake):
 def _draw_groups(layout, scene, emitters):
     box = layout.box()
     groups = group_emitters(scene, emitters)
-    box.label(text=f"{len(groups)} light group(s) from {len(emitters)} emitter(s)", icon="LIGHT")
+    box.label(text=f"{plural(len(groups), 'light group')} from "
+                   f"{plural(len(emitters), 'emitter')}", icon="LIGHT")
     for group in groups:
         spectrum, uv_filter, hours, days = group.key
         names = ", ".join(group.member_names)

@@ -3,6 +3,7 @@
 import bpy
 from bpy.props import FloatProperty
 
+from ...output import plural
 from ..errors import AgingError
 from ..prepare import age_scene
 from ..progress import window_progress
@@ -39,5 +40,5 @@ kept untouched)"""
         except AgingError as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
-        self.report({"INFO"}, f"Aged {len(images)} material(s) to {years:g} years")
+        self.report({"INFO"}, f"Aged {plural(len(images), 'material')} to {plural(years, 'year')}")
         return {"FINISHED"}

@@ -9,6 +9,7 @@ line per bake in background mode.
 import bpy
 from bpy.props import BoolProperty
 
+from ...output import maps_made
 from ..bake import BakeCancelled, BakeSettings, ExposureBake, LightFadeBakeError, bake_exposure
 from ..bake import calibrate
 from ..progress import WindowProgress
@@ -74,9 +75,8 @@ selected, every mesh whose material has LightFade enabled).  Esc cancels"""
         except LightFadeBakeError as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
-        n = sum(len(m) for m in result["maps"].values())
-        self.report({"INFO"}, f"Baked {n} exposure map(s) for {len(result['maps'])} object(s) in "
-                              f"{len(result['groups'])} light group(s), {result['seconds']:.1f} s")
+        self.report({"INFO"}, f"Baked {maps_made(result, 'exposure map')}, "
+                              f"{result['seconds']:.1f} s")
         return {"FINISHED"}
 
     # -- modal run from the UI
@@ -130,8 +130,8 @@ selected, every mesh whose material has LightFade enabled).  Esc cancels"""
             self._end(context, err)
             raise
         self._end(context)
-        n = sum(len(m) for m in maps.values())
-        self.report({"INFO"}, f"Baked {n} exposure map(s) for {len(maps)} object(s)")
+        made = {"maps": maps, "groups": self._job.groups, "emitters": self._job.emitters}
+        self.report({"INFO"}, f"Baked {maps_made(made, 'exposure map')}")
         return {"FINISHED"}
 
 

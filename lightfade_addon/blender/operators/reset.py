@@ -3,6 +3,7 @@
 import bpy
 from bpy.props import BoolProperty
 
+from ...output import plural
 from ..reset import reset_scene
 
 
@@ -22,6 +23,6 @@ and unused grids (and, optionally, the exposure maps)"""
 
     def execute(self, context):
         count = reset_scene(context.scene, exposure=self.exposure)
-        self.report({"INFO"}, f"Reset {count} aged material(s)"
+        self.report({"INFO"}, f"Reset {plural(count, 'aged material')}"
                     + (", removed the exposure maps" if self.exposure else ""))
         return {"FINISHED"}
