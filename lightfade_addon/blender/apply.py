@@ -27,6 +27,7 @@ from .grids import purge
 from .nodes.aging import new_group
 from .pixels import write_rgba
 from .years import get_years, write_years
+from ..core.colorimetry import srgb_encode
 from ..core.table import evaluate
 
 #: Prefix of the images :func:`apply_aging` writes.
@@ -197,6 +198,30 @@ def apply_copy(copy, years):
         applied.extension = _extension(copy)
         tree.links.new(applied.outputs["Color"], socket)
     return image
+
+
+def write_aged_file(copy, years, path):
+    """Write ``copy``'s aged pixels at ``years`` as an image file: ``.png`` (8-bit sRGB)
+    or ``.exr`` (float, linear Rec.709), through Blender's own image writer."""
+    rgba = aged_pixels(copy, years)
+    H, W = rgba.shape[:2]
+    exr = path.lower().endswith(".exr")
+    image = bpy.data.images.new("LF_Export", W, H, alpha=True, float_buffer=exr)
+    try:
+        if exr:
+            image.colorspace_settings.name = "Linear Rec.709"
+            image.file_format = "OPEN_EXR"
+        else:
+            rgba = rgba.copy()
+            rgba[..., :3] = srgb_encode(np.clip(rgba[..., :3], 0.0, 1.0))
+            image.colorspace_settings.name = "sRGB"
+            image.file_format = "PNG"
+        write_rgba(image, rgba)
+        image.filepath_raw = path
+        image.save()
+    finally:
+        bpy.data.images.remove(image)
+    return path
 
 
 def apply_aging(scene, years=None):

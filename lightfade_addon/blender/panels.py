@@ -56,6 +56,12 @@ class VIEW3D_PT_lightfade_aging(LightFadeSidebarMixin, bpy.types.Panel):
         row.operator("lightfade.age", icon="TIME")
         row.operator("lightfade.reset", icon="LOOP_BACK")
         copies = aged_copies(context.scene)
+        if copies:
+            row = layout.row(align=True)
+            applied = any(c.lightfade.aged_image is not None for c in copies)
+            row.operator("lightfade.apply_aging", icon="IMAGE_DATA")
+            if applied:
+                row.operator("lightfade.live_aging", icon="NODETREE")
         col = layout.column(align=True)
         for copy in copies[:8]:
             props = copy.lightfade

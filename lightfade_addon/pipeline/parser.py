@@ -64,7 +64,7 @@ def _add_output(p, what, suffix):
 
 
 def add_subcommands(parser):
-    """Add ``bake``, ``age``, ``render-years`` and ``info`` to ``parser``.
+    """Add ``bake``, ``age``, ``render-years``, ``export-aged`` and ``info`` to ``parser``.
 
     Each sub-parser sets ``args.action`` to its name; :func:`..batch.run` runs it.
     """
@@ -98,6 +98,25 @@ def add_subcommands(parser):
                    help="years values, one still each (e.g. 0 5 10 25)")
     p.add_argument("--output", "-o", required=True, metavar="DIR",
                    help="folder for the stills (created if missing)")
+    p.add_argument("--rebake", action="store_true",
+                   help="bake every exposure map again, even those already in the file")
+    _add_bake_flags(p)
+
+    p = sub.add_parser("export-aged", help="write each aged material's aged texture as "
+                                           "an image file",
+                       description="Age the scene (baking what is missing) and write each "
+                                   "aged material's texture at --years as "
+                                   "DIR/NAME_<material>_<object>_<years>y.png (8-bit sRGB) "
+                                   "or .exr (float, linear): for other engines, glTF/USD "
+                                   "export and texture painting. The .blend files are not "
+                                   "changed.")
+    _add_files(p)
+    p.add_argument("--years", type=_years, required=True, metavar="N",
+                   help="years of light exposure (>= 0)")
+    p.add_argument("--output", "-o", required=True, metavar="DIR",
+                   help="folder for the images (created if missing)")
+    p.add_argument("--format", choices=("png", "exr"), default="png",
+                   help="png: 8-bit sRGB (default); exr: float, linear Rec.709")
     p.add_argument("--rebake", action="store_true",
                    help="bake every exposure map again, even those already in the file")
     _add_bake_flags(p)

@@ -169,6 +169,32 @@ def do_render_years(path, args, say):
     return f"{plural(len(written), 'still')} -> {os.path.abspath(args.output)}"
 
 
+def do_export_aged(path, args, say):
+    from ..blender.apply import aged_copies, write_aged_file
+
+    scene = open_blend(path)
+    _bake_if_needed(scene, args, say)
+    _age(scene, args.years, say)
+    stem = os.path.splitext(os.path.basename(path))[0]
+    folder = os.path.abspath(args.output)
+    os.makedirs(folder, exist_ok=True)
+    written = []
+    for copy in aged_copies(scene):
+        props = copy.lightfade
+        name = f"{stem}_{props.source.name}_{props.aged_object.name}_{_years_text(args.years)}y"
+        target = os.path.join(folder, _safe(name) + "." + args.format)
+        with quiet("save"):
+            write_aged_file(copy, args.years, target)
+        written.append(target)
+        say(f"{props.source.name} on {props.aged_object.name} -> {target}")
+    return f"{plural(len(written), 'image')} -> {folder}"
+
+
+def _safe(name):
+    """A file name from material and object names (path separators and the like replaced)."""
+    return "".join(c if c.isalnum() or c in "._- " else "_" for c in name)
+
+
 def do_info(path, args, say):
     scene = open_blend(path)
     report = gather(scene)
@@ -181,7 +207,8 @@ def do_info(path, args, say):
     return f"{plural(n, 'material')} would age" if n else "nothing to age"
 
 
-ACTIONS = {"bake": do_bake, "age": do_age, "render-years": do_render_years, "info": do_info}
+ACTIONS = {"bake": do_bake, "age": do_age, "render-years": do_render_years,
+           "export-aged": do_export_aged, "info": do_info}
 
 
 def dump_json(reports):

@@ -225,3 +225,30 @@ def test_eevee_evaluates_the_same_aging(textured, tmp_path):
         fade[engine] = np.median(delta_E_2000(lab(frames[0]), lab(frames[1])))
     assert fade["CYCLES"] > 5
     assert abs(fade[eevee] - fade["CYCLES"]) < 0.1 * fade["CYCLES"]
+
+
+def test_apply_then_live_aging_round_trip(textured):
+    """Apply writes real images at the scene's years and feeds them in; Live puts the
+    group back and removes them; Reset leaves nothing of either behind."""
+    from lightfade_addon.blender.copies import APPLIED_NAME, GROUP_NODE
+
+    _bake_and_age(years=12)
+    copy = the_copy(textured["material"])
+    bsdf = copy.node_tree.nodes["Principled BSDF"]
+    assert bpy.ops.lightfade.apply_aging() == {"FINISHED"}
+    image = copy.lightfade.aged_image
+    assert bsdf.inputs["Base Color"].links[0].from_node.name == APPLIED_NAME
+    assert image["lightfade_years"] == 12.0
+    from lightfade_addon.blender.apply import aged_pixels
+    np.testing.assert_allclose(rgba(image), aged_pixels(copy, 12.0), atol=1e-6)
+    assert bpy.ops.lightfade.live_aging() == {"FINISHED"}
+    assert bsdf.inputs["Base Color"].links[0].from_node.name == GROUP_NODE
+    assert copy.lightfade.aged_image is None and not any(
+        i.name.startswith("LF_Applied_") for i in bpy.data.images)
+    assert bpy.ops.lightfade.apply_aging() == {"FINISHED"}
+    assert bpy.ops.lightfade.reset() == {"FINISHED"}
+    assert [i.name for i in bpy.data.images if i.name.startswith("LF_")
+            and not i.name.startswith("LF_Exposure_")] == []       # the bake stays
+    assert not any(g.name.startswith("LF_Aging_") for g in bpy.data.node_groups)
+    original = textured["material"].node_tree.nodes["Principled BSDF"]
+    assert original.inputs["Base Color"].links[0].from_node.type == "TEX_IMAGE"

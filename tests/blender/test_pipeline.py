@@ -414,6 +414,33 @@ def test_render_years_writes_one_still_per_value(lightfade, work):
     assert "good.blend: 40 years -> " in proc.stdout
 
 
+def test_export_aged_writes_one_image_per_material(lightfade, work):
+    """PNG (8-bit sRGB) and EXR (float linear) files of the aged textures, the same
+    colours as the numpy evaluator in Blender, and the .blend left unchanged."""
+    before = (work / "good.blend").read_bytes()
+    proc = lightfade("export-aged", "good.blend", "--years", "40", "--output", "tex")
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    proc = lightfade("export-aged", "good.blend", "--years", "40", "--output", "tex",
+                     "--format", "exr")
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    names = sorted(p.name for p in (work / "tex").iterdir())
+    assert names == ["good_Carpet_Floor_40y.exr", "good_Carpet_Floor_40y.png"]
+    png, exr = (bpy.data.images.load(str(work / "tex" / n)) for n in names[::-1])
+    a, b = _rgba(png)[..., :3], _rgba(exr)[..., :3]
+    assert exr.is_float and not png.is_float
+    from lightfade_addon.core.colorimetry import srgb_encode
+    assert np.abs(srgb_encode(np.clip(b, 0, 1)) - a).max() <= 1 / 255 + 1e-6
+    assert (work / "good.blend").read_bytes() == before and leftovers(work) == []
+    assert not_ours(proc.stdout + proc.stderr) == []
+    assert proc.stdout.count(" -> ") >= 2
+
+
+def _rgba(image):
+    a = np.empty(len(image.pixels), np.float32)
+    image.pixels.foreach_get(a)
+    return a.reshape(image.size[1], image.size[0], image.channels)
+
+
 def test_render_years_without_camera_is_refused(lightfade):
     proc = lightfade("render-years", "nocam.blend", "--years", "1", "--output", "stills")
     assert proc.returncode == 1

@@ -1,6 +1,7 @@
 """LightFade operators, one per module.  ``CLASSES`` is registered in order."""
 
 from .age import LIGHTFADE_OT_age
+from .apply_aging import LIGHTFADE_OT_apply_aging, LIGHTFADE_OT_live_aging
 from .bake_exposure import LIGHTFADE_OT_bake_calibrate, LIGHTFADE_OT_bake_exposure
 from .reset import LIGHTFADE_OT_reset
 
@@ -8,5 +9,7 @@ CLASSES = (
     LIGHTFADE_OT_bake_exposure,
     LIGHTFADE_OT_bake_calibrate,
     LIGHTFADE_OT_age,
+    LIGHTFADE_OT_apply_aging,
+    LIGHTFADE_OT_live_aging,
     LIGHTFADE_OT_reset,
 )
