@@ -252,3 +252,67 @@ def test_apply_then_live_aging_round_trip(textured):
     assert not any(g.name.startswith("LF_Aging_") for g in bpy.data.node_groups)
     original = textured["material"].node_tree.nodes["Principled BSDF"]
     assert original.inputs["Base Color"].links[0].from_node.type == "TEX_IMAGE"
+
+
+def test_zero_years_is_exact_on_overlapping_out_of_range_uvs_and_procedurals(blender, lf,
+                                                                              tmp_path):
+    """A tiled text-like texture (UVs far outside 0–1, every face on the same UV square:
+    overlapping islands, so the bake makes its own UV map) mixed with a procedural: the
+    baked path. At 0 years the render is the original's, pixel for pixel; at 30 years
+    it has faded and the tiles' fine detail is as sharp as before (the group multiplies
+    the artist's own full-resolution graph)."""
+    bpy.ops.mesh.primitive_cube_add(size=1.0)
+    cube = bpy.context.active_object
+    uv = cube.data.uv_layers.active.data
+    corners = ((-2.0, 0.0), (3.0, 0.0), (3.0, 5.0), (-2.0, 5.0))   # outside 0–1
+    for poly in cube.data.polygons:                           # every face on one square
+        for k, li in enumerate(poly.loop_indices):
+            uv[li].uv = corners[k]
+    mat = bpy.data.materials.new("Label")
+    if bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    tree = mat.node_tree
+    text = bpy.data.images.new("Text", 64, 64, alpha=True)
+    px = np.ones((64, 64, 4), np.float32)
+    px[::4, :, :3] = 0.05                                      # thin dark lines: "text"
+    px[:, 1::5, 0] = 0.9
+    text.pixels.foreach_set(px.ravel())
+    text.pack()
+    image = tree.nodes.new("ShaderNodeTexImage")
+    image.image, image.interpolation, image.extension = text, "Closest", "REPEAT"
+    noise = tree.nodes.new("ShaderNodeTexNoise")
+    mix = tree.nodes.new("ShaderNodeMixRGB")
+    mix.inputs["Fac"].default_value = 0.3
+    tree.links.new(image.outputs["Color"], mix.inputs["Color1"])
+    tree.links.new(noise.outputs["Color"], mix.inputs["Color2"])
+    tree.links.new(mix.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
+    mat.lightfade.enabled = True
+    mat.lightfade.recipe = "PRINTED_PAPER"
+    mat.lightfade.blue_wool = 2
+    cube.data.materials.append(mat)
+    sun = lf.add_sun(strength=30.0, theta_deg=30.0)
+    sun.rotation_euler = (0.6, 0.3, 0.4)
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    from mathutils import Vector
+
+    scene.camera.location = (2.2, -2.2, 1.8)
+    scene.camera.rotation_euler = (-Vector(scene.camera.location)).to_track_quat(
+        "-Z", "Y").to_euler()
+    scene.render.resolution_x = scene.render.resolution_y = 64
+    scene.lightfade.bake_resolution = 64
+    before = _render(scene, tmp_path, "before.exr")
+    assert (before.sum(-1) > 0.1).mean() > 0.2                  # the cube fills the frame
+    _bake_and_age(years=0)
+    copy = the_copy(mat)
+    assert copy.lightfade.path == "BAKED" and copy.lightfade.uv_map != "UVMap"
+    assert np.abs(_render(scene, tmp_path, "zero.exr") - before).max() <= 1e-6
+    from lightfade_addon import api
+
+    api.set_years(scene, 30.0)
+    old = _render(scene, tmp_path, "old.exr")
+    cube_px = before.sum(-1) > 0.1
+    assert np.median(delta_E_2000(lab(old[cube_px]), lab(before[cube_px]))) > 1.0
+    # the dark lines keep their contrast: horizontal gradients as strong as before
+    edge = lambda a: np.abs(np.diff(a.mean(-1), axis=0))
+    assert np.percentile(edge(old), 99) > 0.6 * np.percentile(edge(before), 99)
