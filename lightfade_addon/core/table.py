@@ -274,13 +274,10 @@ def evaluate(table, texels, years, positions=None, out=None):
     n = sigma.shape[0]
     res = np.empty((n, 3), dtype=np.float32) if out is None else out
     root = np.float32(float(years) ** (1.0 / DOSE_POWER))
-    # the values at dose nodes i and i + 1 are 24 adjacent bytes: one gather of an
-    # overlapping 24-byte view per vertex brings both
-    nodes = np.ascontiguousarray(table.values, dtype=np.float32).reshape(-1)
-    pairs = np.lib.stride_tricks.as_strided(
-        nodes.view(np.dtype((np.void, 24)))[:0] if nodes.size < 6 else
-        np.frombuffer(nodes.data, dtype=np.dtype((np.void, 24)), count=1),
-        shape=(max(nodes.size // 3 - 1, 0),), strides=(12,), writeable=False)
+    # a key's three values at a dose node are one 12-byte item: a gather moves each
+    # with one copy (the next node's item shares its cache line)
+    nodes = np.ascontiguousarray(table.values, dtype=np.float32).reshape(-1, 3)
+    items = nodes.view(np.dtype((np.void, 12))).ravel()
     last = np.float32(table.T - 1)
     to_rgb = _to_rgb()
 
@@ -293,21 +290,33 @@ def evaluate(table, texels, years, positions=None, out=None):
         np.minimum(i, table.T - 2, out=i)
         f = pos
         f -= i                                          # fractional node position
-        change = np.zeros((3, k), dtype=np.float32)     # planes: long inner loops
-        tmp = np.empty(k, dtype=np.float32)
+        acc = None
         for v in range(rows.shape[0]):
-            both = np.take(pairs, rows[v, s0:s1] + i).view(np.float32).reshape(k, 6)
-            lo, hi = both[:, :3], both[:, 3:]
-            for ch in range(3):                         # v_i + f (v_i+1 - v_i)
-                np.subtract(hi[:, ch], lo[:, ch], out=tmp)
-                tmp *= f
-                tmp += lo[:, ch]
-                if weights is not None:
-                    tmp *= weights[v, s0:s1]
-                change[ch] += tmp
+            idx = rows[v, s0:s1] + i
+            lo = np.take(items, idx).view(np.float32).reshape(k, 3)
+            idx += 1
+            hi = np.take(items, idx).view(np.float32).reshape(k, 3)
+            hi -= lo                                    # v_i + f (v_i+1 - v_i)
+            hi *= f[:, None]
+            hi += lo
+            if weights is not None:
+                hi *= weights[v, s0:s1, None]
+            if acc is None:
+                acc = hi
+            else:
+                acc += hi
+        change = np.ascontiguousarray(acc.T)            # planes: long inner loops
         np.exp(change, out=change)
+        tmp = np.empty(k, dtype=np.float32)
         change *= texels.XYZ[:, s0:s1]                  # aged XYZ
-        rgb = into_gamut_planes(to_rgb @ change)
+        rgb = np.empty_like(change)
+        for ch in range(3):                             # 9 multiply-adds beat a 3 x k matmul
+            np.multiply(change[0], to_rgb[ch, 0], out=rgb[ch])
+            np.multiply(change[1], to_rgb[ch, 1], out=tmp)
+            rgb[ch] += tmp
+            np.multiply(change[2], to_rgb[ch, 2], out=tmp)
+            rgb[ch] += tmp
+        into_gamut_planes(rgb)
         for ch in range(3):
             res[s0:s1, ch] = rgb[ch]
 
