@@ -132,6 +132,23 @@ class TestFinishes:
         assert light == pytest.approx(SUN_LUX, rel=0.03), finish
 
 
+class TestNormal:
+    def test_a_bsdfs_normal_input_turns_the_texel(self, blender, lf):
+        """A Principled BSDF whose Normal input faces the sun (a normal map would do this
+        per texel): the texel receives the sun at normal incidence, 683 · S lux."""
+        plane = checker_plane("principled")
+        tree = plane.material_slots[0].material.node_tree
+        facing = tree.nodes.new("ShaderNodeCombineXYZ")
+        t = math.radians(THETA)
+        facing.inputs["Y"].default_value, facing.inputs["Z"].default_value = -math.sin(t), math.cos(t)
+        tree.links.new(facing.outputs["Vector"], tree.nodes["Principled BSDF"].inputs["Normal"])
+        lf.add_sun(SUN, THETA)
+        lux = lf.pixels(bake_exposure(bpy.context.scene, [plane], EXACT, **QUIET)
+                        ["maps"]["Plane"]["Sun"])
+        assert squares(lux)[0] == pytest.approx(683.0 * SUN, rel=0.03)
+        assert squares(lux)[1] == pytest.approx(683.0 * SUN, rel=0.03)
+
+
 def _rna(struct):
     out = {}
     for p in struct.bl_rna.properties:
@@ -240,6 +257,33 @@ def _paint(colour):
     mat = _material("Paint")
     mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*colour, 1.0)
     return mat
+
+
+def test_a_material_linked_from_a_library_is_baked_through_a_temporary_copy(blender, lf,
+                                                                             tmp_path):
+    checker_plane("sheen 0.6")
+    lib = tmp_path / "fabrics.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(lib))
+    bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
+    import addon_utils
+
+    addon_utils.enable(lf.ADDON, default_set=True)
+    with bpy.data.libraries.load(str(lib), link=True) as (src, dst):
+        dst.materials = ["Finish"]
+    linked = dst.materials[0]
+    before = exact_tree(linked.node_tree)
+    bpy.ops.mesh.primitive_plane_add(size=2.0)
+    plane = bpy.context.active_object
+    plane.name = "Plane"
+    plane.data.materials.append(linked)
+    lf.add_sun(SUN, THETA)
+    lux = lf.pixels(bake_exposure(bpy.context.scene, [plane], EXACT, **QUIET)
+                    ["maps"]["Plane"]["Sun"])
+    dark, light = squares(lux)
+    assert dark == pytest.approx(SUN_LUX, rel=0.03) and light == pytest.approx(SUN_LUX, rel=0.03)
+    assert plane.material_slots[0].material == linked and linked.library is not None
+    assert exact_tree(linked.node_tree) == before
+    assert [m.name for m in bpy.data.materials] == ["Finish"]
 
 
 def _floor_and_wall():

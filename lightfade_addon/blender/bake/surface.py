@@ -19,7 +19,10 @@ diffuse, whose DIFFUSE pass is the irradiance whatever the material; every ray a
 first bounce (light the object reflects onto itself, other targets seen from a texel)
 sees the material as it is.  A Mix Shader with a factor of exactly 0 or 1 evaluates only
 that input, so nothing of the real surface leaks into the texel.  The output's other
-inputs (Volume, Displacement, Thickness) are fed as before.  Emission of the baked
+inputs (Volume, Displacement, Thickness) are fed as before, so displacement and bump
+through the Displacement output shape the white texel too; where the shader feeding the
+output has a linked Normal input (a Principled BSDF with a normal or bump map), the white
+diffuse takes that normal as well.  Emission of the baked
 surface is not part of the DIFFUSE pass, so an emissive target does not count its own
 light; emission of other emitters is handled by :func:`.emitters.isolate`.
 
@@ -95,7 +98,11 @@ def expose_surface(state, material):
     if real is not None:
         surface = real.inputs["Surface"]
         if surface.is_linked:
-            tree.links.new(surface.links[0].from_socket, made["Mix"].inputs[1])
+            source = surface.links[0].from_socket
+            tree.links.new(source, made["Mix"].inputs[1])
+            normal = source.node.inputs.get("Normal")
+            if normal is not None and normal.is_linked:  # a BSDF's normal or bump map
+                tree.links.new(normal.links[0].from_socket, made["White"].inputs["Normal"])
         for socket in real.inputs:
             if socket.identifier == "Surface" or socket.identifier not in out.inputs:
                 continue
