@@ -132,6 +132,35 @@ class TestFinishes:
         assert light == pytest.approx(SUN_LUX, rel=0.03), finish
 
 
+def test_an_object_without_materials_reads_the_suns_illuminance(blender, lf):
+    bpy.ops.mesh.primitive_plane_add(size=2.0)
+    plane = bpy.context.active_object
+    plane.name = "Plane"
+    lf.add_sun(SUN, THETA)
+    lux = lf.pixels(bake_exposure(bpy.context.scene, [plane], EXACT, **QUIET)["maps"]["Plane"]["Sun"])
+    assert np.median(lux) == pytest.approx(SUN_LUX, rel=0.03)
+    assert len(plane.data.materials) == 0 and list(bpy.data.materials) == []
+
+
+def test_a_muted_surface_link_stays_muted_for_the_other_rays(blender, lf, monkeypatch):
+    plane = checker_plane("principled")
+    tree = plane.material_slots[0].material.node_tree
+    tree.nodes["Material Output"].inputs["Surface"].links[0].is_muted = True
+    seen = []
+    real_bake = BakeState.bake
+
+    def spying(state):
+        mix = tree.nodes["LightFade Exposure Mix"]
+        seen.append([link.is_muted for link in mix.inputs[1].links])
+        return real_bake(state)
+
+    monkeypatch.setattr(BakeState, "bake", spying)
+    lf.add_sun(SUN, THETA)
+    bake_exposure(bpy.context.scene, [plane], EXACT, **QUIET)
+    assert seen == [[True]]
+    assert tree.nodes["Material Output"].inputs["Surface"].links[0].is_muted
+
+
 class TestNormal:
     def test_a_bsdfs_normal_input_turns_the_texel(self, blender, lf):
         """A Principled BSDF whose Normal input faces the sun (a normal map would do this

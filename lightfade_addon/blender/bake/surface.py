@@ -54,6 +54,14 @@ def _outputs(tree):
     return [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
 
 
+def _relink(tree, socket, to_socket):
+    """Link what feeds ``socket`` into ``to_socket`` as well (muted if that link is);
+    returns the source socket."""
+    link = socket.links[0]
+    tree.links.new(link.from_socket, to_socket).is_muted = link.is_muted
+    return link.from_socket
+
+
 def expose_surface(state, material):
     """Make ``material`` read as white diffuse at the baked texels only; undone on exit.
 
@@ -98,17 +106,16 @@ def expose_surface(state, material):
     if real is not None:
         surface = real.inputs["Surface"]
         if surface.is_linked:
-            source = surface.links[0].from_socket
-            tree.links.new(source, made["Mix"].inputs[1])
+            source = _relink(tree, surface, made["Mix"].inputs[1])
             normal = source.node.inputs.get("Normal")
             if normal is not None and normal.is_linked:  # a BSDF's normal or bump map
-                tree.links.new(normal.links[0].from_socket, made["White"].inputs["Normal"])
+                _relink(tree, normal, made["White"].inputs["Normal"])
         for socket in real.inputs:
             if socket.identifier == "Surface" or socket.identifier not in out.inputs:
                 continue
             twin = out.inputs[socket.identifier]
             if socket.is_linked:
-                tree.links.new(socket.links[0].from_socket, twin)
+                _relink(tree, socket, twin)
             elif hasattr(socket, "default_value"):
                 twin.default_value = socket.default_value
     out.target = "CYCLES"
