@@ -132,6 +132,23 @@ class TestFinishes:
         assert light == pytest.approx(SUN_LUX, rel=0.03), finish
 
 
+def test_a_material_shared_by_two_baked_objects_reads_the_sun_on_both(blender, lf):
+    plane = checker_plane("sheen 0.6")
+    mat = plane.material_slots[0].material
+    before = exact_tree(mat.node_tree)
+    bpy.ops.mesh.primitive_plane_add(size=2.0, location=(3.0, 0.0, 0.0))
+    twin = bpy.context.active_object
+    twin.name = "Twin"
+    twin.data.materials.append(mat)
+    lf.add_sun(SUN, THETA)
+    maps = bake_exposure(bpy.context.scene, [plane, twin], EXACT, **QUIET)["maps"]
+    for name in ("Plane", "Twin"):
+        dark, light = squares(lf.pixels(maps[name]["Sun"]))
+        assert dark == pytest.approx(SUN_LUX, rel=0.03) and light == pytest.approx(SUN_LUX, rel=0.03)
+    assert exact_tree(mat.node_tree) == before and [m.name for m in bpy.data.materials] == ["Finish"]
+    assert twin.material_slots[0].material == mat and twin.material_slots[0].link == "DATA"
+
+
 def test_an_object_without_materials_reads_the_suns_illuminance(blender, lf):
     bpy.ops.mesh.primitive_plane_add(size=2.0)
     plane = bpy.context.active_object
