@@ -5,9 +5,10 @@ Each target is baked in its own real materials: LightFade adds an Image Texture 
 output that shows the baked texels as white diffuse (:mod:`.surface`: the map is the light
 arriving, whatever the material's colour or finish), and removes both afterwards; every
 other ray sees the real materials, so the light the object bounces onto itself is what its
-materials really reflect.  Where one material serves several targets of the same Cycles call, each further
-object gets a temporary copy through an object-linked slot (Blender's
-``slot.link = 'OBJECT'``), so every object writes into its own map.
+materials really reflect.  Where one material serves several targets of the same Cycles
+call, each further object gets a temporary copy through an object-linked slot (Blender's
+``slot.link = 'OBJECT'``), so every object writes into its own map; so does a material
+linked from a library (or overridden from one), which is never edited.
 """
 
 from __future__ import annotations
