@@ -43,29 +43,36 @@ def texture_at_texels(image, n):
     return Y[np.ix_(rows, cols)]
 
 
-def main(argv=None):
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--texture", type=int, default=512, help="room texture size (rug width, texels)")
-    p.add_argument("--map", type=int, default=128, help="exposure map size")
-    p.add_argument("--samples", type=int, default=16, help="bake samples")
-    p.add_argument("--old", action="store_true", help="bake without the white-diffuse texels")
-    args = p.parse_args(argv)
+def measure(texture=512, map_size=128, samples=16, old=False):
+    """Build the room, bake the rug and compare its exposure with its texture.
 
+    Returns
+    -------
+    dict
+        ``r`` (correlation inside the sun patch), ``light`` and ``mid`` (mean lux on the
+        lightest and on the mid-tone quarter of the texels), ``mean`` (lux), ``texels``.
+    """
     from scenes import room
     from scenes.tags import apply_tags
 
-    info = room.build(resolution=args.texture)
+    if addon_utils.check("lightfade_addon")[1]:
+        addon_utils.disable("lightfade_addon", default_set=True)
+    info = room.build(resolution=texture)
     addon_utils.enable("lightfade_addon", default_set=True)
     from lightfade_addon.blender.bake import BakeSettings, bake_exposure, targets
 
-    if args.old:
-        targets.expose_surface = lambda state, material: None
     scene = bpy.context.scene
     apply_tags(scene)
     rug = bpy.data.objects[info["rug"]]
-    settings = BakeSettings(resolution=args.map, samples=args.samples, margin=4)
-    maps = bake_exposure(scene, [rug], settings, report=lambda m: None,
-                         progress=lambda f, m: None)["maps"][rug.name]
+    settings = BakeSettings(resolution=map_size, samples=samples, margin=4)
+    real = targets.expose_surface
+    if old:
+        targets.expose_surface = lambda state, material: None
+    try:
+        maps = bake_exposure(scene, [rug], settings, report=lambda m: None,
+                             progress=lambda f, m: None)["maps"][rug.name]
+    finally:
+        targets.expose_surface = real
     sun = next(image for name, image in maps.items() if name.startswith("Sun"))
     n = sun.size[0]
     lux = np.empty(n * n * 4, dtype=np.float32)
@@ -75,17 +82,28 @@ def main(argv=None):
     inner = np.zeros_like(lux, dtype=bool)
     inner[4:-4, 4:-4] = True  # away from the map's border (bake margin, rug edge)
     patch = inner & (lux > 0.5 * np.percentile(lux[inner], 99))
-    r = np.corrcoef(lux[patch], Y[patch])[0, 1]
     q25, q50, q75 = np.percentile(Y[patch], [25, 50, 75])
-    light = lux[patch & (Y >= q75)].mean()
-    mid = lux[patch & (Y >= q25) & (Y <= q50)].mean()
+    return dict(r=float(np.corrcoef(lux[patch], Y[patch])[0, 1]),
+                light=float(lux[patch & (Y >= q75)].mean()),
+                mid=float(lux[patch & (Y >= q25) & (Y <= q50)].mean()),
+                mean=float(lux[patch].mean()), texels=int(patch.sum()))
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--texture", type=int, default=512, help="room texture size (rug width, texels)")
+    p.add_argument("--map", type=int, default=128, help="exposure map size")
+    p.add_argument("--samples", type=int, default=16, help="bake samples")
+    p.add_argument("--old", action="store_true", help="bake without the white-diffuse texels")
+    args = p.parse_args(argv)
+    m = measure(args.texture, args.map, args.samples, args.old)
     label = "old (real material at the texel)" if args.old else "white diffuse at the texel"
-    print(f"rug exposure to the sun, {label}: {patch.sum()} texels in the sun patch, "
-          f"{lux[patch].mean():,.0f} lux on average")
-    print(f"  correlation with the rug texture's luminance: {r:+.2f}")
-    print(f"  lightest quarter of the texture {light:,.0f} lux, mid-tones {mid:,.0f} lux "
-          f"({(light / mid - 1) * 100:+.1f} %)")
-    return r
+    print(f"rug exposure to the sun, {label}: {m['texels']} texels in the sun patch, "
+          f"{m['mean']:,.0f} lux on average")
+    print(f"  correlation with the rug texture's luminance: {m['r']:+.2f}")
+    print(f"  lightest quarter of the texture {m['light']:,.0f} lux, mid-tones {m['mid']:,.0f} lux "
+          f"({(m['light'] / m['mid'] - 1) * 100:+.1f} %)")
+    return m
 
 
 if __name__ == "__main__":
