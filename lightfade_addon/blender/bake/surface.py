@@ -81,8 +81,8 @@ def expose_surface(state, material):
     tree = material.node_tree
     if tree.nodes.get(OUTPUT_NAME) is not None:  # a temporary copy of a prepared material
         return
+    active = [(n, n.is_active_output) for n in _outputs(tree)]  # before Blender tidies them
     real = tree.get_output_node("CYCLES")
-    active = [(n, n.is_active_output) for n in _outputs(tree)]
     made = {}
     for name, idname, inputs in _NODES:
         node = tree.nodes.new(idname)
