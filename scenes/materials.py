@@ -1,8 +1,13 @@
-"""Materials as artists make them, side by side under one sun, half of each in shadow.
+"""Materials as artists make them, side by side in one sun, half of each in shadow.
 
-One plate (1 m square, its own UVs) per kind of Base Color, in a row along x; an
-awning floating above the row shades the plates' ``y < 0`` half (the sun shines
-straight down), so every plate has a lit half and a shaded half:
+One plate (1 m square, its own UVs) per kind of Base Color, in two rows, each kind
+labelled on the ground in front of its plates. The sun comes from behind the rows at 45°
+and a low wall stands behind each plate, as high as its distance from the plate's middle:
+its shadow ends across the middle, so every plate has a lit front half and a shaded back
+half. The two kinds that are about objects rather than graphs (``shared``, ``duplicates``)
+have two plates side by side: one in full sun (no wall), one in full shade (a taller
+wall). The camera looks at the rows from the front and above, over the labels; nothing
+stands between it and the plates.
 
 =================  ===========================================================
 kind               Base Color
@@ -13,11 +18,14 @@ kind               Base Color
 ``adjusted``       Image -> Hue/Saturation/Value -> Mix (multiply) -> reroute
 ``grouped``        the Principled BSDF inside a node group, its image outside
 ``attribute``      a colour attribute (vertex colours) of the mesh
-``shared``         one material on two plates: one in full sun, one in full shade
-``duplicates``     linked duplicates (one mesh): one in full sun, one in full shade
+``shared``         one material on two plates: one in full sun (left), one in full shade
+``duplicates``     linked duplicates (one mesh): one in full sun (left), one in full shade
 =================  ===========================================================
 
-Each material is tagged ``lightfade_recipe = "dyed-fabric"`` (Blue Wool 3).
+Each material is tagged ``lightfade_recipe = "dyed-fabric"`` (Blue Wool 3).  The sun gives
+``SUN_LUX`` on the plates, 8 hours a day: bright daylight indoors by a window, about
+5.8 Mlx·h a year, so that the demo's years (0, 2, 10) go from new through a visible fade
+to clearly faded (a Blue Wool 3 dye fades noticeably after about 4 Mlx·h).
 Run ``python -m scenes.materials out.blend`` to build and save.
 """
 
@@ -32,8 +40,27 @@ from .render import configure_render, save_blend, view_settings
 
 KINDS = ("image", "tiled", "procedural", "adjusted", "grouped", "attribute", "shared",
          "duplicates")
-#: Sun strength giving about 20,000 lux on the plates (sun straight down).
-SUN_LUX = 20000.0
+#: Illuminance on the plates' lit halves (lux), from a sun at ``SUN_ELEVATION``.
+SUN_LUX = 2000.0
+SUN_ELEVATION = 45.0
+#: Distance between the plates' centres along x, and between the two rows along y (m).
+SPACING, ROW_GAP = 1.35, 2.6
+#: Height of the low wall behind each plate (m); at the sun's 45° its shadow ends across
+#: the middle of the plate.  Behind the shaded plates of the two-plate kinds it is raised
+#: to ``TALL`` so that its shadow covers them whole; their sunny plates have none.
+WALL, TALL = 0.55, 1.15
+#: (kind, column, row, role) of every plate: front row first; the two-plate kinds put
+#: their sunny and their shaded plate side by side.
+LAYOUT = (
+    ("image", 0, 0, ""), ("tiled", 1, 0, ""), ("procedural", 2, 0, ""),
+    ("adjusted", 3, 0, ""), ("grouped", 4, 0, ""),
+    ("attribute", 0, 1, ""), ("shared", 1, 1, "Sun"), ("shared", 2, 1, "Shade"),
+    ("duplicates", 3, 1, "Sun"), ("duplicates", 4, 1, "Shade"),
+)
+#: The label in front of each kind's plates.
+LABELS = {"image": "image", "tiled": "tiled", "procedural": "procedural",
+          "adjusted": "adjusted", "grouped": "node group", "attribute": "attribute",
+          "shared": "shared: sun | shade", "duplicates": "duplicates: sun | shade"}
 RECIPE = "dyed-fabric"
 BLUE_WOOL = 3
 
@@ -173,14 +200,37 @@ def _paint(mesh):
     attr.data.foreach_set("color", rgba.astype(np.float32).ravel())
 
 
+def _label(text, x, y, material, size=0.24):
+    """Text lying on the ground, centred at (x, y), read from the camera (+x to the right)."""
+    curve = bpy.data.curves.new(f"Label_{text}", "FONT")
+    curve.body = text
+    curve.size = size
+    curve.align_x, curve.align_y = "CENTER", "CENTER"
+    obj = bpy.data.objects.new(f"Label_{text}", curve)
+    bpy.context.scene.collection.objects.link(obj)
+    obj.location = (x, y, 0.002)
+    curve.materials.append(material)
+    return obj
+
+
+def _box(name, centre, size, material):
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=centre)
+    obj = bpy.context.active_object
+    obj.name = obj.data.name = name
+    obj.scale = size
+    obj.data.materials.append(material)
+    return obj
+
+
 def build(path=None, resolution=64):
-    """Build the plates, the awning and the sun; save to ``path`` if given.
+    """Build the plates, their labels, the ground, the wall and the sun; save to ``path``.
 
     Returns
     -------
     dict
         ``plates`` {kind: [object names]} (sunny first where there are two),
-        ``materials`` {kind: material name}, ``camera`` and ``view``.
+        ``materials`` {kind: material name}, ``labels`` {kind: text object name},
+        ``camera`` and ``view``.
     """
     C.reset()
     scene = bpy.context.scene
@@ -193,40 +243,54 @@ def build(path=None, resolution=64):
         "grouped": lambda: material_grouped(n),
         "attribute": material_attribute,
     }
-    plates, materials = {}, {}
-    for i, (kind, make) in enumerate(makers.items()):
-        mat = make()
-        obj = _plate(f"Plate_{kind}", 1.5 * i, 0.0, mat)
-        if kind == "attribute":
-            _paint(obj.data)
-        plates[kind], materials[kind] = [obj.name], mat.name
-    x = 1.5 * len(makers)
     shared = material_plain("Mat_Shared", (0.7, 0.1, 0.35))
-    plates["shared"] = [_plate("Shared_Sun", x, 2.0, shared).name,
-                        _plate("Shared_Shade", x, -2.0, shared).name]
-    materials["shared"] = shared.name
     dup_mat = material_image(n)
     dup_mat.name = "Mat_Duplicates"
-    sunny = _plate("Duplicate_Sun", x + 1.5, 2.0, dup_mat)
-    shade = _plate("Duplicate_Shade", x + 1.5, -2.0, None, mesh=sunny.data)
-    plates["duplicates"] = [sunny.name, shade.name]
-    materials["duplicates"] = dup_mat.name
-    # the awning: shades y < 0 of the row and the whole "shade" plates at y = -2
-    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(x / 2 + 0.75, -1.5, 1.2))
-    awning = bpy.context.active_object
-    awning.name = "Awning"
-    awning.scale = (x + 4.0, 3.0, 0.05)
-    # dark underneath, so that little light bounces from the lit halves into the shade
-    awning.data.materials.append(C.plain_material("Awning", (0.02, 0.02, 0.02)))
-    C.add_light("Sun", "SUN", C.sun_strength_for_lux(SUN_LUX), (0.0, 0.0, 5.0),
+    plates = {kind: [] for kind in KINDS}
+    materials = {"shared": shared.name, "duplicates": dup_mat.name}
+    ground, wall = (C.plain_material("Ground", (0.05, 0.05, 0.05), roughness=0.9),
+                    C.plain_material("Wall", (0.3, 0.3, 0.3), roughness=0.9))
+    white = C.plain_material("Label", (0.8, 0.8, 0.8), roughness=0.9)
+    for kind, col, row, role in LAYOUT:
+        x, y = SPACING * col, ROW_GAP * row
+        if kind in makers:
+            mat = makers[kind]()
+            obj = _plate(f"Plate_{kind}", x, y, mat)
+            if kind == "attribute":
+                _paint(obj.data)
+            materials[kind] = mat.name
+        elif kind == "shared":
+            obj = _plate(f"Shared_{role}", x, y, shared)
+        elif role == "Sun":
+            obj = _plate("Duplicate_Sun", x, y, dup_mat)
+        else:
+            obj = _plate("Duplicate_Shade", x, y, None, mesh=bpy.data.objects["Duplicate_Sun"].data)
+        plates[kind].append(obj.name)
+        if role != "Sun":  # a sunny plate of a two-plate kind stays in full sun
+            height = TALL if role == "Shade" else WALL
+            _box(f"Wall_{obj.name}", (x, y + 0.55, height / 2), (SPACING, 0.1, height), wall)
+    labels = {}
+    for kind in KINDS:
+        cols = [col for k, col, _row, _role in LAYOUT if k == kind]
+        row = next(r for k, _c, r, _ in LAYOUT if k == kind)
+        labels[kind] = _label(LABELS[kind], SPACING * sum(cols) / len(cols),
+                              ROW_GAP * row - 0.8, white).name
+    last = SPACING * max(col for _k, col, _r, _ro in LAYOUT)
+    centre = last / 2
+    # a dark ground: little light bounces from the sunny ground into the shade; the
+    # ground and the walls are untagged, so they do not age
+    _box("Ground", (centre, ROW_GAP / 2, -0.03), (last + 10.0, ROW_GAP + 10.0, 0.05), ground)
+    C.add_light("Sun", "SUN", C.sun_strength_for_lux(SUN_LUX, SUN_ELEVATION), (centre, 8.0, 5.0),
                 spectrum="daylight-glass", hours_per_day=8.0, uv_filter=False,
-                direction=(0.0, 0.0, -1.0), angle=0.0)
-    camera = C.add_camera("Camera", (x / 2 + 0.75, -1.0, 9.0), (x / 2 + 0.75, 0.0, 0.0), lens=24)
+                direction=C.sun_direction(SUN_ELEVATION, -90.0), angle=0.0)
+    # a dim grey sky for the render only (untagged: not part of aging)
+    C.world_sky(scene, (0.6, 0.65, 0.75), 0.15)
+    camera = C.add_camera("Camera", (centre, -4.0, 7.0), (centre, 1.2, 0.0), lens=35)
     scene.camera = camera
     for obj in bpy.context.view_layer.objects:
         obj.select_set(False)
     configure_render(scene, 640, 400, samples=16)
-    info = dict(plates=plates, materials=materials, camera=camera.name,
+    info = dict(plates=plates, materials=materials, labels=labels, camera=camera.name,
                 view=view_settings(scene))
     if path:
         save_blend(path)

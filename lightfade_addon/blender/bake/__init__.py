@@ -11,6 +11,7 @@ Modules, one job each:
 ``uvmaps``   the UV map each object is baked on: overlap checks, LightFadeUV
 ``sizing``   map sizes from a texel density; time estimates from a calibration bake
 ``targets``  which objects are baked; the target image nodes in their real materials
+``surface``  the baked texels read as white diffuse, the real material for every other ray
 ``denoise``  OIDN through Blender's compositor, guided by UV islands
 ``exposure`` the bake loop (one Cycles call per group), :func:`bake_exposure`
 ``calibration`` two tiny bakes that give the estimate its rate

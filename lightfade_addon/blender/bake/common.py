@@ -2,8 +2,10 @@
 
 Calibration (Cycles CPU, pinned by ``tests/blender/test_bake.py``)
 -----------------------------------------------------------------
-Cycles' DIFFUSE bake without colour returns ``B = E / pi``, where ``E`` is the irradiance
-in Blender's nominal radiometric units (W/m²).  The maps store::
+Cycles' DIFFUSE bake without colour of a white Lambertian surface returns ``B = E / pi``,
+where ``E`` is the irradiance in Blender's nominal radiometric units (W/m²); the baked
+texels are shown to Cycles as exactly that surface, whatever their material
+(:mod:`.surface`).  The maps store::
 
     lux = 683 lm/W * pi * Y(B)          (LUX_PER_BAKE_UNIT = 683 pi = 2145.7)
 

@@ -3,7 +3,8 @@
 For each light group (:mod:`.emitters`) every other emitter is switched off and one
 Cycles call bakes the DIFFUSE pass (direct + indirect light, no colour) of all target
 objects at once, each into its own float image through a node added to its real
-materials (:mod:`.targets`).  Each map is then denoised (:mod:`.denoise`), turned into
+materials (:mod:`.targets`), whose baked texels read as white diffuse (:mod:`.surface`):
+the light arriving, whatever the material.  Each map is then denoised (:mod:`.denoise`), turned into
 the luminance of the irradiance in lux (:mod:`.common`) and, once every group is done,
 stored on the objects (:mod:`.maps`).  Everything the bake changes is put back by
 :class:`.state.BakeState`, also on error or cancel; a cancelled bake stores nothing.

@@ -1,11 +1,14 @@
 """Which objects get exposure maps, and how Cycles is told where to write them.
 
-Each target is baked in its own real materials: LightFade only adds an Image Texture node
-(made active: Cycles bakes into the active image node of each material) and removes it
-afterwards, so the light the object bounces onto itself is what its materials really
-reflect.  Where one material serves several targets of the same Cycles call, each further
-object gets a temporary copy through an object-linked slot (Blender's
-``slot.link = 'OBJECT'``), so every object writes into its own map.
+Each target is baked in its own real materials: LightFade adds an Image Texture node
+(made active: Cycles bakes into the active image node of each material) and a temporary
+output that shows the baked texels as white diffuse (:mod:`.surface`: the map is the light
+arriving, whatever the material's colour or finish), and removes both afterwards; every
+other ray sees the real materials, so the light the object bounces onto itself is what its
+materials really reflect.  Where one material serves several targets of the same Cycles
+call, each further object gets a temporary copy through an object-linked slot (Blender's
+``slot.link = 'OBJECT'``), so every object writes into its own map; so does a material
+linked from a library (or overridden from one), which is never edited.
 """
 
 from __future__ import annotations
@@ -13,6 +16,7 @@ from __future__ import annotations
 import bpy
 
 from .common import TEMP_PREFIX, LightFadeBakeError
+from .surface import expose_surface
 
 NODE_NAME = "LightFade Exposure Target"
 
@@ -113,10 +117,12 @@ def attach_targets(state, objects):
                 state.set(slot, "link", "OBJECT")
                 state.set(slot, "material", _stand_in(state, colour))
                 mat = slot.material
-            elif mat.library is not None or owner.get(mat.name, obj.name) != obj.name:
+            elif (mat.library is not None or mat.override_library is not None
+                  or owner.get(mat.name, obj.name) != obj.name):
                 mat = _own_copy(state, obj, i, mat)
             if owner.setdefault(mat.name, obj.name) == obj.name and not any(
                     n.id_data == mat.node_tree for n in nodes[obj.name]):
+                expose_surface(state, mat)
                 nodes[obj.name].append(_add_target_node(state, mat))
     return nodes
 
