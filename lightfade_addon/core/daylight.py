@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .allweather import diffuse_sky_Perez1993
 from .perez import luminous_efficacy, luminous_efficacy_Perez1990
 from .skygrid import direction_to_pixel, grid, scene_to_enu, sun_direction_scene
 from .skysamples import SkySamples, sky_samples
@@ -30,6 +31,7 @@ from .weather import Weather, WeatherFileError, read_weather
 __all__ = [
     "Place",
     "PLACES",
+    "SKY_MODELS",
     "annual_sky_map",
     "plane_dose",
     "annual_irradiation",
@@ -45,6 +47,13 @@ __all__ = [
 ]
 
 _COS85 = np.cos(np.radians(85.0))
+
+#: The sky luminance distributions :func:`annual_sky_map` offers.
+SKY_MODELS = ("Perez1990", "Perez1993")
+
+#: The Perez 1993 distribution's resolution: grid width (pixels) and samples per hour.
+PEREZ1993_GRID = 64
+PEREZ1993_SUBSTEPS = 2
 
 
 @dataclass(frozen=True)
@@ -106,29 +115,68 @@ def _substeps_for(width):
     return max(6, int(np.ceil(width / 12.0)))
 
 
-def _accumulate(s: SkySamples, width, north, albedo, ground, photometric):
-    """The map from samples; see :func:`annual_sky_map`."""
+def _coarse_factor(width, finest=128):
+    """Integer f such that width / f <= ``finest`` is a valid map width (1 if none)."""
+    for f in range(int(np.ceil(width / finest)), width // 16 + 1):
+        if width % f == 0 and (width // f) % 4 == 0:
+            return f
+    return 1
+
+
+def _diffuse_Perez1990(s, K_d, width, north, sky):
+    """Isotropic dome, circumsolar point source and horizon band (Perez et al. 1990)."""
     d, omega = grid(width)
-    H, W = d.shape[:2]
-    K_b = s.K_direct if photometric else 1.0
-    K_d = s.K_diffuse if photometric else 1.0
+    H = d.shape[0]
+    h = H // 2
     cos_z = np.cos(np.radians(s.zenith))
-    # point sources at the sun: direct normal + circumsolar (its normal-incidence value)
-    normal = (K_b * s.dni + K_d * s.F1 * s.dhi / np.maximum(cos_z, _COS85)) * s.hours
+    # circumsolar: a point source at the sun, F1·DHI / max(cos Z, cos 85°) at normal incidence
+    cs = K_d * s.F1 * s.dhi / np.maximum(cos_z, _COS85) * s.hours
     idx = direction_to_pixel(sun_direction_scene(s.zenith, s.azimuth, north), width)
-    sky = np.bincount(idx, weights=normal, minlength=H * W).reshape(H, W) / omega
+    sky += np.bincount(idx, weights=cs, minlength=sky.size).reshape(sky.shape) / omega
     # horizon band: a line source along the horizon giving F2·DHI·sin(tilt) on a plane,
     # i.e. F2·DHI/2 per radian of azimuth, in the first row above the horizon
-    band = float(np.sum(K_d * s.F2 * s.dhi * s.hours)) / 2.0
-    h = H // 2
-    dtheta = np.pi / H
-    band_L = band / np.sin(dtheta)
+    band_L = float(np.sum(K_d * s.F2 * s.dhi * s.hours)) / 2.0 / np.sin(np.pi / H)
     sky[h] += band_L
     band_horizontal = band_L * float(np.sum(omega[h] * d[h, :, 2]))
     # isotropic dome: (1 - F1)·DHI on the horizontal, less what the band row already gives
     iso = float(np.sum(K_d * (1.0 - s.F1) * s.dhi * s.hours)) - band_horizontal
-    up = d[h:, :, 2]
-    sky[h:] += iso / float(np.sum(omega[h:] * up))
+    sky[h:] += iso / float(np.sum(omega[h:] * d[h:, :, 2]))
+
+
+def _diffuse_Perez1993(s, coarse, photometric, width, north, sky):
+    """All-weather luminance distribution (Perez et al. 1993), gendaymtx's normalisation,
+    evaluated for the ``coarse`` samples on a grid at most :data:`PEREZ1993_GRID` pixels
+    wide, repeated onto the map's pixels and scaled to the diffuse horizontal dose of the
+    samples ``s``."""
+    f = _coarse_factor(width, PEREZ1993_GRID)
+    K_d = coarse.K_diffuse if photometric else 1.0
+    part = diffuse_sky_Perez1993(coarse, K_d * coarse.dhi * coarse.hours, width // f, north)
+    part = np.repeat(np.repeat(part, f, axis=0), f, axis=1)
+    d, omega = grid(width)
+    h = d.shape[0] // 2
+    total = float(np.sum(part * omega[h:] * d[h:, :, 2]))
+    K_d = s.K_diffuse if photometric else 1.0
+    if total > 0:
+        sky[h:] += part * (float(np.sum(K_d * s.dhi * s.hours)) / total)
+
+
+def _accumulate(s: SkySamples, width, north, albedo, ground, photometric, sky_model="Perez1990",
+                coarse: SkySamples | None = None):
+    """The map from samples; see :func:`annual_sky_map`.  ``coarse``: the samples for
+    the Perez 1993 distribution (default ``s``)."""
+    d, omega = grid(width)
+    H, W = d.shape[:2]
+    h = H // 2
+    K_b = s.K_direct if photometric else 1.0
+    K_d = s.K_diffuse if photometric else 1.0
+    cos_z = np.cos(np.radians(s.zenith))
+    # the sun: direct normal dose into the pixel of each sample's position
+    idx = direction_to_pixel(sun_direction_scene(s.zenith, s.azimuth, north), width)
+    sky = np.bincount(idx, weights=K_b * s.dni * s.hours, minlength=H * W).reshape(H, W) / omega
+    if sky_model == "Perez1990":
+        _diffuse_Perez1990(s, K_d, width, north, sky)
+    else:
+        _diffuse_Perez1993(s, coarse if coarse is not None else s, photometric, width, north, sky)
     if ground:
         beam_h = s.dni * cos_z
         if photometric:
@@ -142,7 +190,7 @@ def _accumulate(s: SkySamples, width, north, albedo, ground, photometric):
     return np.maximum(sky, 0.0).astype(np.float32)
 
 
-def annual_sky_map(place, width=512, ground=True, photometric=True):
+def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez1990"):
     """Annual cumulative sky (sun + sky + ground) as a Blender equirectangular map.
 
     Parameters
@@ -157,6 +205,14 @@ def annual_sky_map(place, width=512, ground=True, photometric=True):
     photometric : bool
         True: lux·h per year per steradian (cd·h·m^-2 per year), with the Perez 1990
         luminous efficacies; False: W·h·m^-2·sr^-1 per year (for checks against pvlib).
+    sky : {"Perez1990", "Perez1993"}
+        How the diffuse light is spread over the sky (:data:`SKY_MODELS`): the Perez 1990
+        transposition's isotropic dome + circumsolar point source + horizon band (the
+        model pvlib's plane-of-array irradiance uses; default), or the Perez 1993
+        all-weather luminance distribution normalised to each sample's diffuse
+        horizontal light, as Radiance ``gendaymtx`` does (:mod:`.allweather`; evaluated
+        on a grid at most 64 pixels wide, 2 samples an hour, then scaled to the
+        diffuse dose; about 10 times slower than the default).
 
     Returns
     -------
@@ -187,6 +243,9 @@ def annual_sky_map(place, width=512, ground=True, photometric=True):
     * ground (``ground=True``): ``albedo × global horizontal`` spread evenly below the
       horizon, so a plane of tilt β receives ``albedo · GHI · (1 - cos β) / 2``.
 
+    With ``sky="Perez1993"`` the circumsolar and horizon terms and the isotropic dome
+    are replaced by the all-weather distribution carrying all of ``K_d · DHI · Δt``.
+
     Luminous efficacies K_b, K_d: Perez et al. 1990 (:mod:`.perez`).  Negative sums
     (possible only in the horizon row, under mostly overcast climates) are clipped to 0.
 
@@ -199,8 +258,11 @@ def annual_sky_map(place, width=512, ground=True, photometric=True):
     from .skygrid import check_width
 
     width = check_width(width)
+    if sky not in SKY_MODELS:
+        raise ValueError(f"unknown sky model {sky!r}; use one of {SKY_MODELS}")
     s = sky_samples(place, _substeps_for(width))
-    return _accumulate(s, width, place.north, place.albedo, ground, photometric)
+    coarse = sky_samples(place, PEREZ1993_SUBSTEPS) if sky == "Perez1993" else None
+    return _accumulate(s, width, place.north, place.albedo, ground, photometric, sky, coarse)
 
 
 def plane_dose(sky_map, normal):
@@ -231,13 +293,13 @@ def plane_dose(sky_map, normal):
 
 
 def annual_irradiation(place, normal, substeps=12, photometric=False):
-    """Annual irradiation on an unobstructed plane straight from the model, no map.
+    """Annual irradiation on unobstructed planes straight from the model, no map.
 
     Parameters
     ----------
     place : Place
     normal : array_like
-        (3,) plane normal in scene coordinates.
+        (3,) plane normal in scene coordinates, or (N, 3) for N planes.
     substeps : int
         Sub-intervals per hour.
     photometric : bool
@@ -245,24 +307,28 @@ def annual_irradiation(place, normal, substeps=12, photometric=False):
 
     Returns
     -------
-    float
-        Sum over the year's samples of ``DNI · max(cos θ, 0)`` + the Perez 1990 sky
-        diffuse ``DHI · ((1 - F1)(1 + cos β)/2 + F1 a / b + F2 sin β)`` (clipped at 0
-        per sample, as pvlib does) + ``albedo · GHI · (1 - cos β)/2``, times each
-        sample's duration: the same model as pvlib's
-        ``get_total_irradiance(model='perez')``.
+    float or numpy.ndarray
+        (N,) for (N, 3) normals.  The sum over the year's samples of
+        ``DNI · max(cos θ, 0)`` + the Perez 1990 sky diffuse
+        ``DHI · ((1 - F1)(1 + cos β)/2 + F1 a / b + F2 sin β)`` (clipped at 0 per sample,
+        as pvlib does) + ``albedo · GHI · (1 - cos β)/2``, times each sample's duration:
+        the model of pvlib's ``get_total_irradiance(model='perez')``.
     """
     s = sky_samples(place, substeps)
-    n = scene_to_enu(np.asarray(normal, dtype=float) / np.linalg.norm(normal), place.north)
+    normal = np.asarray(normal, dtype=float)
+    n = scene_to_enu(normal / np.linalg.norm(normal, axis=-1, keepdims=True), place.north)
+    n2 = np.atleast_2d(n)                                           # (N, 3)
     z, a = np.radians(s.zenith), np.radians(s.azimuth)
     sun = np.stack([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)], axis=-1)
-    cos_t = np.maximum(sun @ n, 0.0)
-    cos_b = n[2]
-    sin_b = np.sqrt(max(0.0, 1.0 - cos_b * cos_b))
-    K_b = s.K_direct if photometric else 1.0
-    K_d = s.K_diffuse if photometric else 1.0
-    diffuse = s.dhi * ((1.0 - s.F1) * (1.0 + cos_b) / 2.0
-                       + s.F1 * cos_t / np.maximum(np.cos(z), _COS85) + s.F2 * sin_b)
+    cos_t = np.maximum(sun @ n2.T, 0.0)                             # (samples, N)
+    cos_b = n2[:, 2]
+    sin_b = np.sqrt(np.maximum(0.0, 1.0 - cos_b * cos_b))
+    K_b = s.K_direct[:, None] if photometric else 1.0
+    K_d = s.K_diffuse[:, None] if photometric else 1.0
+    col = lambda v: v[:, None]  # noqa: E731
+    diffuse = col(s.dhi) * ((1.0 - col(s.F1)) * (1.0 + cos_b) / 2.0
+                            + col(s.F1) * cos_t / col(np.maximum(np.cos(z), _COS85))
+                            + col(s.F2) * sin_b)
     beam_h = s.dni * np.cos(z)
     if photometric:
         total = beam_h + s.dhi
@@ -270,5 +336,7 @@ def annual_irradiation(place, normal, substeps=12, photometric=False):
                        / np.where(total > 0, total, 1.0), 0.0)
     else:
         k_g = 1.0
-    ground = place.albedo * k_g * s.ghi * (1.0 - cos_b) / 2.0
-    return float(np.sum((K_b * s.dni * cos_t + K_d * np.maximum(diffuse, 0.0) + ground) * s.hours))
+    ground = col(place.albedo * k_g * s.ghi) * (1.0 - cos_b) / 2.0
+    out = np.sum((K_b * col(s.dni) * cos_t + K_d * np.maximum(diffuse, 0.0) + ground)
+                 * col(s.hours), axis=0)
+    return float(out[0]) if n.ndim == 1 else out

@@ -43,6 +43,8 @@ class SkySamples:
         Perez 1990 circumsolar and horizon brightening coefficients.
     K_direct, K_diffuse : numpy.ndarray
         Luminous efficacy of direct normal and diffuse light, lm/W.
+    epsilon, delta : numpy.ndarray
+        Perez sky clearness and brightness (NaN clearness where DHI = 0).
     latitude, longitude, altitude : float
         Where the sun was computed (the weather file's station when there is one).
     dropped_wh : float
@@ -60,6 +62,8 @@ class SkySamples:
     F2: np.ndarray
     K_direct: np.ndarray
     K_diffuse: np.ndarray
+    epsilon: np.ndarray
+    delta: np.ndarray
     latitude: float
     longitude: float
     altitude: float
@@ -79,7 +83,7 @@ def _samples(t, zenith, azimuth, dni, dhi, ghi, hours, water, lat, lon, alt, dro
     F1, F2 = perez_F1_F2(eps, delta, zenith)
     K_b, K_d = luminous_efficacy(eps, delta, zenith, water)
     return SkySamples(zenith=zenith, azimuth=azimuth, dni=dni, dhi=dhi, ghi=ghi, hours=hours,
-                      F1=F1, F2=F2, K_direct=K_b, K_diffuse=K_d, latitude=float(lat),
+                      F1=F1, F2=F2, K_direct=K_b, K_diffuse=K_d, epsilon=eps, delta=delta, latitude=float(lat),
                       longitude=float(lon), altitude=float(alt), dropped_wh=float(dropped))
 
 

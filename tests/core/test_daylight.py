@@ -124,8 +124,12 @@ class TestAnnualSkyMap:
     def test_map_integral_matches_direct_model_on_planes(self):
         place = PLACES["Madrid"]
         m = annual_sky_map(place, width=WIDTH, photometric=False)
-        for n in (UP, SOUTH, EAST, NORTH, (0, -1, 1)):
-            assert np.isclose(plane_dose(m, n), dl.annual_irradiation(place, n), rtol=0.02), n
+        normals = (UP, SOUTH, EAST, NORTH, (0, -1, 1))
+        direct = dl.annual_irradiation(place, normals, substeps=dl._substeps_for(WIDTH))
+        assert direct.shape == (5,)
+        assert np.isclose(direct[0], dl.annual_irradiation(place, UP, substeps=dl._substeps_for(WIDTH)))
+        for n, ref in zip(normals, direct):
+            assert np.isclose(plane_dose(m, n), ref, rtol=0.02), n
 
     def test_luminous_efficacy_range(self, london):
         w = annual_sky_map(PLACES["London"], width=WIDTH, photometric=False)
@@ -335,3 +339,52 @@ class TestAgainstPvlibAnnual:
             assert np.isclose(ref[k][1] / ref["H"][1], ref[k][0] / ref["H"][0], rtol=0.05), k
         lux = plane_dose(annual_sky_map(place, width=WIDTH), UP)
         assert 90 < lux / ref["H"][0] < 130
+
+
+@pytest.fixture(scope="module")
+def few(london_samples):
+    """Every 37th of London's samples (spread over the year)."""
+    s = london_samples
+    pick = np.arange(0, s.zenith.size, 37)
+    arrays = {f.name: getattr(s, f.name)[pick] for f in dataclasses.fields(s)
+              if isinstance(getattr(s, f.name), np.ndarray)}
+    return dataclasses.replace(s, **arrays)
+
+
+class TestPerez1993:
+    """The all-weather distribution (``sky="Perez1993"``) on a subset of London's samples."""
+
+    def test_normalised_to_the_diffuse_horizontal_dose(self, few):
+        from lightfade_addon.core.allweather import diffuse_sky_Perez1993
+
+        w = few.dhi * few.hours
+        part = diffuse_sky_Perez1993(few, w, 32, 0.0)
+        d, omega = skygrid.grid(32)
+        assert np.isclose(np.sum(part * omega[8:] * d[8:, :, 2]), w.sum(), rtol=1e-9)
+        assert part.min() >= 0
+
+    def test_clear_sky_is_brightest_round_the_sun_and_overcast_at_the_zenith(self):
+        from lightfade_addon.core.allweather import perez1993_parameters, relative_luminance_Perez1993
+
+        clear = perez1993_parameters(8.0, 0.15, 40.0)
+        near_sun = relative_luminance_Perez1993(clear, np.cos(np.radians(45)), np.radians(5))
+        away = relative_luminance_Perez1993(clear, np.cos(np.radians(45)), np.radians(90))
+        assert near_sun > 5 * away
+        overcast = perez1993_parameters(1.01, 0.3, 40.0)
+        zenith = relative_luminance_Perez1993(overcast, 1.0, np.radians(40))
+        horizon = relative_luminance_Perez1993(overcast, np.cos(np.radians(85)), np.radians(90))
+        assert 1.5 < zenith / horizon < 4.5          # CIE overcast sky: 3 (Moon & Spencer)
+
+    def test_planes_agree_with_the_1990_split_within_five_percent(self, few):
+        a = dl._accumulate(few, WIDTH, 0.0, 0.2, True, False, "Perez1990")
+        b = dl._accumulate(few, WIDTH, 0.0, 0.2, True, False, "Perez1993")
+        assert np.isclose(plane_dose(b, UP), plane_dose(a, UP), rtol=0.01)
+        for n in (SOUTH, EAST, NORTH):
+            ra, rb = plane_dose(a, n) / plane_dose(a, UP), plane_dose(b, n) / plane_dose(b, UP)
+            assert np.isclose(rb, ra, rtol=0.05), n
+        # the difference is in the sky, not the sun: the 1993 sky has no point source
+        assert (b[WIDTH // 4:] > 0).all()
+
+    def test_unknown_sky_model(self):
+        with pytest.raises(ValueError, match="sky model"):
+            annual_sky_map(PLACES["London"], width=WIDTH, sky="CIE")
