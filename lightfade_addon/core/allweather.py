@@ -73,7 +73,7 @@ def perez1993_parameters(epsilon, delta, zenith):
     x = PEREZ_1993[b]                                            # (..., 5, 4)
     p = x[..., 0] + x[..., 1] * Z[..., None] + D[..., None] * (x[..., 2] + x[..., 3] * Z[..., None])
     first = b == 0                                               # eq. 7-8, overcast bin
-    with np.errstate(invalid="ignore", over="ignore"):
+    with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
         c1 = np.exp(np.power(np.abs(D * (x[..., 2, 0] + x[..., 2, 1] * Z)), x[..., 2, 2])) - x[..., 2, 3]
         d1 = -np.exp(D * (x[..., 3, 0] + x[..., 3, 1] * Z)) + x[..., 3, 2] + D * x[..., 3, 3]
     p[..., 2] = np.where(first, c1, p[..., 2])
@@ -81,7 +81,7 @@ def perez1993_parameters(epsilon, delta, zenith):
     return p
 
 
-def relative_luminance_Perez1993(params, cos_zeta, gamma):
+def relative_luminance_Perez1993(params, cos_zeta, gamma, cos_gamma=None):
     """lv(ζ, γ) (Perez et al. 1993, eq. 1), cos ζ floored at 0.01 as in ``perezlum.cal``.
 
     Parameters
@@ -92,11 +92,14 @@ def relative_luminance_Perez1993(params, cos_zeta, gamma):
         Cosine of the sky element's zenith angle.
     gamma : array_like
         Angle between the sky element and the sun, radians.
+    cos_gamma : array_like, optional
+        cos γ when already known.
     """
-    p = np.asarray(params, dtype=float)
+    p = np.asarray(params)
     a, b, c, d, e = (p[..., i] for i in range(5))
+    cos_gamma = np.cos(gamma) if cos_gamma is None else cos_gamma
     grad = 1.0 + a * np.exp(np.minimum(b / np.maximum(cos_zeta, 0.01), 50.0))
-    indic = 1.0 + c * np.exp(d * gamma) + e * np.cos(gamma) ** 2
+    indic = 1.0 + c * np.exp(d * gamma) + e * cos_gamma * cos_gamma
     return grad * indic
 
 
@@ -119,7 +122,9 @@ def diffuse_sky_Perez1993(samples, weights, width, north, chunk=256):
     numpy.ndarray
         (width // 4, width) radiance-time of the sky rows (horizon first), whose
         cosine-weighted integral is ``weights.sum()``.  Negative relative luminances
-        (the model's fit can dip below 0 at extreme parameters) are set to 0.
+        (the model's fit can dip below 0 at extreme parameters) are set to 0; a sample
+        whose sky is then dark everywhere (1 in 8770 in the Greensboro TMY3 year) is
+        spread isotropically.
     """
     d, omega = grid(width)
     H = d.shape[0]
@@ -128,14 +133,23 @@ def diffuse_sky_Perez1993(samples, weights, width, north, chunk=256):
     cos_zeta = enu[:, 2]
     w_cos = (omega[H // 2:] * sky_d[..., 2]).reshape(-1)         # Ω cos ζ per pixel
     s = samples
-    params = perez1993_parameters(s.epsilon, s.delta, s.zenith)
+    # float32 inside the loop: the distribution is a smooth shape, normalised per sample
+    params = perez1993_parameters(s.epsilon, s.delta, s.zenith).astype(np.float32)
     z, a = np.radians(s.zenith), np.radians(s.azimuth)
-    sun = np.stack([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)], -1)
+    sun = np.stack([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)], -1).astype(np.float32)
+    enu32, cz32, w_cos = enu.astype(np.float32), cos_zeta.astype(np.float32)[None, :], w_cos.astype(np.float32)
     acc = np.zeros(enu.shape[0])
     for i in range(0, len(weights), chunk):
         sl = slice(i, i + chunk)
-        gamma = np.arccos(np.clip(sun[sl] @ enu.T, -1.0, 1.0))  # (n, P)
-        lv = np.maximum(relative_luminance_Perez1993(params[sl, None, :], cos_zeta[None, :], gamma), 0.0)
-        norm = lv @ w_cos
-        acc += (weights[sl] / norm) @ lv
+        # elementwise products, not BLAS: (n, 3) x (3, P) is too thin for a threaded gemm
+        sv = sun[sl]
+        cos_g = sv[:, :1] * enu32[:, 0] + sv[:, 1:2] * enu32[:, 1] + sv[:, 2:] * enu32[:, 2]
+        np.clip(cos_g, -1.0, 1.0, out=cos_g)                    # (n, P)
+        lv = relative_luminance_Perez1993(params[sl, None, :], cz32, np.arccos(cos_g), cos_g)
+        np.maximum(lv, 0.0, out=lv)
+        norm = np.einsum("ij,j->i", lv, w_cos, dtype=np.float64)
+        bad = ~(norm > 0)                   # no positive luminance anywhere: isotropic
+        lv[bad] = 1.0
+        norm[bad] = w_cos.sum()
+        acc += np.einsum("i,ij->j", weights[sl] / norm, lv, dtype=np.float64)
     return acc.reshape(H // 2, -1)

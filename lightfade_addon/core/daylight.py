@@ -48,8 +48,8 @@ __all__ = [
 
 _COS85 = np.cos(np.radians(85.0))
 
-#: The sky luminance distributions :func:`annual_sky_map` offers.
-SKY_MODELS = ("Perez1990", "Perez1993")
+#: The sky luminance distributions :func:`annual_sky_map` offers (the first is the default).
+SKY_MODELS = ("Perez1993", "Perez1990")
 
 #: The Perez 1993 distribution's resolution: grid width (pixels) and samples per hour.
 PEREZ1993_GRID = 64
@@ -160,7 +160,7 @@ def _diffuse_Perez1993(s, coarse, photometric, width, north, sky):
         sky[h:] += part * (float(np.sum(K_d * s.dhi * s.hours)) / total)
 
 
-def _accumulate(s: SkySamples, width, north, albedo, ground, photometric, sky_model="Perez1990",
+def _accumulate(s: SkySamples, width, north, albedo, ground, photometric, sky_model="Perez1993",
                 coarse: SkySamples | None = None):
     """The map from samples; see :func:`annual_sky_map`.  ``coarse``: the samples for
     the Perez 1993 distribution (default ``s``)."""
@@ -190,7 +190,7 @@ def _accumulate(s: SkySamples, width, north, albedo, ground, photometric, sky_mo
     return np.maximum(sky, 0.0).astype(np.float32)
 
 
-def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez1990"):
+def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez1993"):
     """Annual cumulative sky (sun + sky + ground) as a Blender equirectangular map.
 
     Parameters
@@ -205,14 +205,14 @@ def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez19
     photometric : bool
         True: lux·h per year per steradian (cd·h·m^-2 per year), with the Perez 1990
         luminous efficacies; False: W·h·m^-2·sr^-1 per year (for checks against pvlib).
-    sky : {"Perez1990", "Perez1993"}
-        How the diffuse light is spread over the sky (:data:`SKY_MODELS`): the Perez 1990
-        transposition's isotropic dome + circumsolar point source + horizon band (the
-        model pvlib's plane-of-array irradiance uses; default), or the Perez 1993
+    sky : {"Perez1993", "Perez1990"}
+        How the diffuse light is spread over the sky (:data:`SKY_MODELS`): the Perez 1993
         all-weather luminance distribution normalised to each sample's diffuse
-        horizontal light, as Radiance ``gendaymtx`` does (:mod:`.allweather`; evaluated
-        on a grid at most 64 pixels wide, 2 samples an hour, then scaled to the
-        diffuse dose; about 10 times slower than the default).
+        horizontal light, as Radiance ``gendaymtx`` does (default; :mod:`.allweather`,
+        evaluated on a grid at most 64 pixels wide for 2 samples an hour, repeated onto
+        the map's pixels and scaled to the diffuse dose), or the Perez 1990
+        transposition's isotropic dome + circumsolar point source + horizon band, the
+        model of pvlib's plane-of-array irradiance (equal to it by construction).
 
     Returns
     -------
@@ -233,6 +233,12 @@ def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez19
 
     * direct: ``K_b · DNI · Δt`` into the pixel of the sun's position, divided by the
       pixel's solid angle;
+    * sky, ``"Perez1993"``: ``K_d · DHI · Δt`` spread over the sky half by the
+      all-weather relative luminance (Perez, Seals & Michalsky 1993), whose
+      cosine-weighted integral is that dose;
+
+    or, with ``"Perez1990"``:
+
     * circumsolar: ``K_d · F1 · DHI / max(cos Z, cos 85°) · Δt`` into the same pixel
       (Perez et al. 1990, eq. 9: ``F1 · DHI · a / b`` on a plane);
     * horizon band: ``K_d · F2 · DHI / 2 · Δt`` per radian of azimuth, spread evenly in the
@@ -240,14 +246,15 @@ def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez19
     * isotropic: the rest of the diffuse light, ``K_d · (1 - F1) · DHI · Δt`` on the
       horizontal, evenly over the sky half (normalised by the discrete cosine sum so the
       horizontal dose is exact);
+
+    and with either:
+
     * ground (``ground=True``): ``albedo × global horizontal`` spread evenly below the
       horizon, so a plane of tilt β receives ``albedo · GHI · (1 - cos β) / 2``.
 
-    With ``sky="Perez1993"`` the circumsolar and horizon terms and the isotropic dome
-    are replaced by the all-weather distribution carrying all of ``K_d · DHI · Δt``.
-
     Luminous efficacies K_b, K_d: Perez et al. 1990 (:mod:`.perez`).  Negative sums
-    (possible only in the horizon row, under mostly overcast climates) are clipped to 0.
+    (with ``"Perez1990"``, possible only in the horizon row under mostly overcast
+    climates) are clipped to 0.
 
     Examples
     --------
