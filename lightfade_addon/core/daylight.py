@@ -2,16 +2,17 @@
 
 The annual daylight of a place becomes one equirectangular environment map whose pixels
 hold the year's cumulative luminance (lux·h per steradian, i.e. cd·h/m^2 per year): the
-sun's direct light in the pixels of its path, the Perez 1990 sky (isotropic dome,
-circumsolar light at the sun, a horizon band) and, below the horizon, the ground lit by
-the global horizontal light.  The cosine-weighted integral of the map over the
+sun's direct light in the pixels of its path, the sky's diffuse light spread by the Perez
+1993 all-weather distribution (or the Perez 1990 split) and, below the horizon, the
+ground lit by the global horizontal light.  The cosine-weighted integral of the map over the
 hemisphere around a normal is the annual illuminance dose on an unobstructed plane with
 that normal (:func:`plane_dose`), so a Cycles bake with this map as the World gives each
 texel its annual daylight dose in lux·h directly.
 
 Modules: :mod:`.solar` (sun position), :mod:`.clearsky` (Ineichen-Perez), :mod:`.weather`
-(EPW/TMY readers), :mod:`.perez` (sky split and efficacy), :mod:`.skysamples` (the year's
-samples), :mod:`.skygrid` (Blender's equirectangular frame).  docs/daylight.md explains
+(EPW/TMY readers), :mod:`.perez` (clearness, the 1990 split, efficacy), :mod:`.allweather`
+(the 1993 distribution), :mod:`.skysamples` (the year's samples), :mod:`.skygrid`
+(Blender's equirectangular frame).  docs/daylight.md explains
 the choices and benchmarks/daylight.py compares against pvlib.
 """
 
