@@ -56,18 +56,12 @@ def pvlib_data():
 
 def cases():
     """(label, Place): two clear-sky places and three weather files shipped with pvlib."""
-    from lightfade_addon.core.weather import read_weather
-
     out = [("London, clear sky", PLACES["London"]), ("Madrid, clear sky", PLACES["Madrid"]),
            ("Sydney, clear sky", PLACES["Sydney"])]
     for label, name in (("Greensboro NC, TMY3", "723170TYA.CSV"),
                         ("Sand Point AK, TMY3", "703165TY.csv"),
                         ("Miami FL, TMY2", "12839.tm2")):
-        path = pvlib_data() / name
-        wx = read_weather(path)
-        out.append((f"{label} ({name})",
-                    Place(wx.latitude, wx.longitude, weather=str(path), albedo=ALBEDO,
-                          altitude=wx.altitude)))
+        out.append((f"{label} ({name})", Place.from_weather(pvlib_data() / name, albedo=ALBEDO)))
     return out
 
 

@@ -24,7 +24,8 @@ import numpy as np
 
 from .allweather import diffuse_sky_Perez1993
 from .perez import luminous_efficacy, luminous_efficacy_Perez1990
-from .skygrid import direction_to_pixel, grid, scene_to_enu, sun_direction_scene
+from .skygrid import (direction_to_pixel, grid, north_from_sun_position_addon, scene_to_enu,
+                      sun_direction_scene)
 from .skysamples import SkySamples, sky_samples
 from .solar import sun_position
 from .weather import Weather, WeatherFileError, read_weather
@@ -41,6 +42,7 @@ __all__ = [
     "read_weather",
     "sun_position",
     "sun_direction_scene",
+    "north_from_sun_position_addon",
     "Weather",
     "WeatherFileError",
     "SkySamples",
@@ -85,6 +87,14 @@ class Place:
     weather: str | None = None
     albedo: float = 0.2
     altitude: float = 0.0
+
+    @classmethod
+    def from_weather(cls, path, north=0.0, albedo=0.2):
+        """The place of a weather file's station (its header's latitude, longitude and
+        altitude), with that file as its weather."""
+        wx = read_weather(path)
+        return cls(wx.latitude, wx.longitude, north=north, weather=str(path), albedo=albedo,
+                   altitude=wx.altitude)
 
     def __post_init__(self):
         if not -90.0 <= self.latitude <= 90.0:

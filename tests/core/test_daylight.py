@@ -54,6 +54,16 @@ class TestSkyGrid:
                                    (np.sin(np.radians(30)), -np.cos(np.radians(30)), 0),
                                    atol=1e-12)
 
+    def test_sun_position_addon_north_offset(self):
+        # Blender's Sun Position add-on: azimuth += north_offset; get_sun_vector gives
+        # (sin θ sin A, sin θ cos A, cos θ) (sun_position/sun_calc.py)
+        z, a, offset = 60.0, 130.0, np.radians(25.0)
+        A, th = np.radians(a) + offset, np.radians(z)
+        addon = (np.sin(th) * np.sin(A), np.sin(th) * np.cos(A), np.cos(th))
+        north = skygrid.north_from_sun_position_addon(offset)
+        assert north == pytest.approx(-25.0)
+        np.testing.assert_allclose(skygrid.sun_direction_scene(z, a, north), addon, atol=1e-12)
+
     def test_bad_width(self):
         with pytest.raises(ValueError, match="multiple of 4"):
             annual_sky_map(PLACES["London"], width=50)
@@ -138,6 +148,12 @@ class TestAnnualSkyMap:
 
 
 class TestPlace:
+    def test_from_weather_takes_the_station(self, pvlib_data):
+        place = Place.from_weather(pvlib_data / "12839.tm2", north=10.0)
+        assert (place.latitude, place.altitude, place.north) == (25.8, 2.0, 10.0)
+        assert place.longitude == pytest.approx(-80 - 16 / 60)
+        assert place.weather.endswith("12839.tm2")
+
     def test_presets_and_validation(self):
         assert {"London", "Amsterdam/52N", "Madrid", "New York", "Sydney"} <= set(PLACES)
         assert PLACES["Sydney"].latitude < 0 < PLACES["London"].latitude
