@@ -74,7 +74,8 @@ def perez1993_parameters(epsilon, delta, zenith):
     p = x[..., 0] + x[..., 1] * Z[..., None] + D[..., None] * (x[..., 2] + x[..., 3] * Z[..., None])
     first = b == 0                                               # eq. 7-8, overcast bin
     with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
-        c1 = np.exp(np.power(np.abs(D * (x[..., 2, 0] + x[..., 2, 1] * Z)), x[..., 2, 2])) - x[..., 2, 3]
+        c1 = (np.exp(np.power(np.abs(D * (x[..., 2, 0] + x[..., 2, 1] * Z)), x[..., 2, 2]))
+              - x[..., 2, 3])
         d1 = -np.exp(D * (x[..., 3, 0] + x[..., 3, 1] * Z)) + x[..., 3, 2] + D * x[..., 3, 3]
     p[..., 2] = np.where(first, c1, p[..., 2])
     p[..., 3] = np.where(first, d1, p[..., 3])
@@ -137,7 +138,8 @@ def diffuse_sky_Perez1993(samples, weights, width, north, chunk=256):
     params = perez1993_parameters(s.epsilon, s.delta, s.zenith).astype(np.float32)
     z, a = np.radians(s.zenith), np.radians(s.azimuth)
     sun = np.stack([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)], -1).astype(np.float32)
-    enu32, cz32, w_cos = enu.astype(np.float32), cos_zeta.astype(np.float32)[None, :], w_cos.astype(np.float32)
+    enu32, w_cos = enu.astype(np.float32), w_cos.astype(np.float32)
+    cz32 = cos_zeta.astype(np.float32)[None, :]
     acc = np.zeros(enu.shape[0])
     for i in range(0, len(weights), chunk):
         sl = slice(i, i + chunk)

@@ -22,10 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .allweather import diffuse_sky_Perez1993
-from .perez import luminous_efficacy, luminous_efficacy_Perez1990
-from .skygrid import (direction_to_pixel, grid, north_from_sun_position_addon, scene_to_enu,
+from .perez import COS_85, luminous_efficacy, luminous_efficacy_Perez1990
+from .skygrid import (check_width, grid, north_from_sun_position_addon, scene_to_enu,
                       sun_direction_scene)
+from .skymap import PEREZ1993_SUBSTEPS, SKY_MODELS, accumulate, substeps_for
 from .skysamples import SkySamples, sky_samples
 from .solar import sun_position
 from .weather import Weather, WeatherFileError, read_weather
@@ -49,14 +49,6 @@ __all__ = [
     "sky_samples",
 ]
 
-_COS85 = np.cos(np.radians(85.0))
-
-#: The sky luminance distributions :func:`annual_sky_map` offers (the first is the default).
-SKY_MODELS = ("Perez1993", "Perez1990")
-
-#: The Perez 1993 distribution's resolution: grid width (pixels) and samples per hour.
-PEREZ1993_GRID = 64
-PEREZ1993_SUBSTEPS = 2
 
 
 @dataclass(frozen=True)
@@ -118,87 +110,6 @@ PLACES = {
     "Cairo": Place(30.0444, 31.2357, altitude=23.0),
     "Reykjavik": Place(64.1466, -21.9426, altitude=0.0),
 }
-
-
-def _substeps_for(width):
-    """Sub-intervals per hour so that the sun moves at most about half a pixel (the
-    sun crosses at most 15°/h; a pixel is 360/width degrees)."""
-    return max(6, int(np.ceil(width / 12.0)))
-
-
-def _coarse_factor(width, finest=128):
-    """Integer f such that width / f <= ``finest`` is a valid map width (1 if none)."""
-    for f in range(int(np.ceil(width / finest)), width // 16 + 1):
-        if width % f == 0 and (width // f) % 4 == 0:
-            return f
-    return 1
-
-
-def _diffuse_Perez1990(s, K_d, width, north, sky):
-    """Isotropic dome, circumsolar point source and horizon band (Perez et al. 1990)."""
-    d, omega = grid(width)
-    H = d.shape[0]
-    h = H // 2
-    cos_z = np.cos(np.radians(s.zenith))
-    # circumsolar: a point source at the sun, F1·DHI / max(cos Z, cos 85°) at normal incidence
-    cs = K_d * s.F1 * s.dhi / np.maximum(cos_z, _COS85) * s.hours
-    idx = direction_to_pixel(sun_direction_scene(s.zenith, s.azimuth, north), width)
-    sky += np.bincount(idx, weights=cs, minlength=sky.size).reshape(sky.shape) / omega
-    # horizon band: a line source along the horizon giving F2·DHI·sin(tilt) on a plane,
-    # i.e. F2·DHI/2 per radian of azimuth, in the first row above the horizon
-    band_L = float(np.sum(K_d * s.F2 * s.dhi * s.hours)) / 2.0 / np.sin(np.pi / H)
-    sky[h] += band_L
-    band_horizontal = band_L * float(np.sum(omega[h] * d[h, :, 2]))
-    # isotropic dome: (1 - F1)·DHI on the horizontal, less what the band row already gives
-    iso = float(np.sum(K_d * (1.0 - s.F1) * s.dhi * s.hours)) - band_horizontal
-    sky[h:] += iso / float(np.sum(omega[h:] * d[h:, :, 2]))
-
-
-def _diffuse_Perez1993(s, coarse, photometric, width, north, sky):
-    """All-weather luminance distribution (Perez et al. 1993), gendaymtx's normalisation,
-    evaluated for the ``coarse`` samples on a grid at most :data:`PEREZ1993_GRID` pixels
-    wide, repeated onto the map's pixels and scaled to the diffuse horizontal dose of the
-    samples ``s``."""
-    f = _coarse_factor(width, PEREZ1993_GRID)
-    K_d = coarse.K_diffuse if photometric else 1.0
-    part = diffuse_sky_Perez1993(coarse, K_d * coarse.dhi * coarse.hours, width // f, north)
-    part = np.repeat(np.repeat(part, f, axis=0), f, axis=1)
-    d, omega = grid(width)
-    h = d.shape[0] // 2
-    total = float(np.sum(part * omega[h:] * d[h:, :, 2]))
-    K_d = s.K_diffuse if photometric else 1.0
-    if total > 0:
-        sky[h:] += part * (float(np.sum(K_d * s.dhi * s.hours)) / total)
-
-
-def _accumulate(s: SkySamples, width, north, albedo, ground, photometric, sky_model="Perez1993",
-                coarse: SkySamples | None = None):
-    """The map from samples; see :func:`annual_sky_map`.  ``coarse``: the samples for
-    the Perez 1993 distribution (default ``s``)."""
-    d, omega = grid(width)
-    H, W = d.shape[:2]
-    h = H // 2
-    K_b = s.K_direct if photometric else 1.0
-    K_d = s.K_diffuse if photometric else 1.0
-    cos_z = np.cos(np.radians(s.zenith))
-    # the sun: direct normal dose into the pixel of each sample's position
-    idx = direction_to_pixel(sun_direction_scene(s.zenith, s.azimuth, north), width)
-    sky = np.bincount(idx, weights=K_b * s.dni * s.hours, minlength=H * W).reshape(H, W) / omega
-    if sky_model == "Perez1990":
-        _diffuse_Perez1990(s, K_d, width, north, sky)
-    else:
-        _diffuse_Perez1993(s, coarse if coarse is not None else s, photometric, width, north, sky)
-    if ground:
-        beam_h = s.dni * cos_z
-        if photometric:
-            total = beam_h + s.dhi
-            k_g = np.where(total > 0, (s.K_direct * beam_h + s.K_diffuse * s.dhi)
-                           / np.where(total > 0, total, 1.0), 0.0)
-            glob = float(np.sum(k_g * s.ghi * s.hours))
-        else:
-            glob = float(np.sum(s.ghi * s.hours))
-        sky[:h] += albedo * glob / float(np.sum(omega[:h] * -d[:h, :, 2]))
-    return np.maximum(sky, 0.0).astype(np.float32)
 
 
 def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez1993"):
@@ -273,14 +184,12 @@ def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez19
     >>> m.shape, m.dtype
     ((32, 64), dtype('float32'))
     """
-    from .skygrid import check_width
-
     width = check_width(width)
     if sky not in SKY_MODELS:
         raise ValueError(f"unknown sky model {sky!r}; use one of {SKY_MODELS}")
-    s = sky_samples(place, _substeps_for(width))
+    s = sky_samples(place, substeps_for(width))
     coarse = sky_samples(place, PEREZ1993_SUBSTEPS) if sky == "Perez1993" else None
-    return _accumulate(s, width, place.north, place.albedo, ground, photometric, sky, coarse)
+    return accumulate(s, width, place.north, place.albedo, ground, photometric, sky, coarse)
 
 
 def plane_dose(sky_map, normal):
@@ -345,15 +254,9 @@ def annual_irradiation(place, normal, substeps=12, photometric=False):
     K_d = s.K_diffuse[:, None] if photometric else 1.0
     col = lambda v: v[:, None]  # noqa: E731
     diffuse = col(s.dhi) * ((1.0 - col(s.F1)) * (1.0 + cos_b) / 2.0
-                            + col(s.F1) * cos_t / col(np.maximum(np.cos(z), _COS85))
+                            + col(s.F1) * cos_t / col(np.maximum(np.cos(z), COS_85))
                             + col(s.F2) * sin_b)
-    beam_h = s.dni * np.cos(z)
-    if photometric:
-        total = beam_h + s.dhi
-        k_g = np.where(total > 0, (s.K_direct * beam_h + s.K_diffuse * s.dhi)
-                       / np.where(total > 0, total, 1.0), 0.0)
-    else:
-        k_g = 1.0
+    k_g = s.K_global if photometric else 1.0
     ground = col(place.albedo * k_g * s.ghi) * (1.0 - cos_b) / 2.0
     out = np.sum((K_b * col(s.dni) * cos_t + K_d * np.maximum(diffuse, 0.0) + ground)
                  * col(s.hours), axis=0)

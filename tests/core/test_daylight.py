@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from lightfade_addon.core import daylight as dl
-from lightfade_addon.core import skygrid, skysamples
+from lightfade_addon.core import skygrid, skymap, skysamples
 from lightfade_addon.core.daylight import PLACES, Place, annual_sky_map, plane_dose
 
 WIDTH = 64  # coarse maps keep the tests quick; the physics does not depend on the width
@@ -22,7 +22,7 @@ def london():
 
 @pytest.fixture(scope="module")
 def london_samples():
-    return skysamples.sky_samples(PLACES["London"], dl._substeps_for(WIDTH))
+    return skysamples.sky_samples(PLACES["London"], skymap.substeps_for(WIDTH))
 
 
 class TestSkyGrid:
@@ -121,7 +121,7 @@ class TestAnnualSkyMap:
     def test_sun_pixels_hold_the_direct_normal_integral(self, london_samples):
         s = dataclasses.replace(london_samples, dhi=np.zeros_like(london_samples.dhi),
                                 F1=np.zeros_like(london_samples.F1), F2=np.zeros_like(london_samples.F2))
-        m = dl._accumulate(s, WIDTH, 0.0, 0.2, False, photometric=False, sky_model="Perez1990")
+        m = skymap.accumulate(s, WIDTH, 0.0, 0.2, False, photometric=False, sky_model="Perez1990")
         _, omega = skygrid.grid(WIDTH)
         assert np.isclose((m * omega).sum(), np.sum(s.dni * s.hours), rtol=1e-5)
         # and only along the sun's path: nothing below the horizon, nothing above London's
@@ -135,9 +135,9 @@ class TestAnnualSkyMap:
         place = PLACES["Madrid"]
         m = annual_sky_map(place, width=WIDTH, photometric=False, sky="Perez1990")
         normals = (UP, SOUTH, EAST, NORTH, (0, -1, 1))
-        direct = dl.annual_irradiation(place, normals, substeps=dl._substeps_for(WIDTH))
+        direct = dl.annual_irradiation(place, normals, substeps=skymap.substeps_for(WIDTH))
         assert direct.shape == (5,)
-        assert np.isclose(direct[0], dl.annual_irradiation(place, UP, substeps=dl._substeps_for(WIDTH)))
+        assert np.isclose(direct[0], dl.annual_irradiation(place, UP, substeps=skymap.substeps_for(WIDTH)))
         for n, ref in zip(normals, direct):
             assert np.isclose(plane_dose(m, n), ref, rtol=0.02), n
 
@@ -405,8 +405,8 @@ class TestPerez1993:
         assert 1.5 < zenith / horizon < 4.5          # CIE overcast sky: 3 (Moon & Spencer)
 
     def test_planes_agree_with_the_1990_split_within_five_percent(self, few):
-        a = dl._accumulate(few, WIDTH, 0.0, 0.2, True, False, "Perez1990")
-        b = dl._accumulate(few, WIDTH, 0.0, 0.2, True, False, "Perez1993")
+        a = skymap.accumulate(few, WIDTH, 0.0, 0.2, True, False, "Perez1990")
+        b = skymap.accumulate(few, WIDTH, 0.0, 0.2, True, False, "Perez1993")
         assert np.isclose(plane_dose(b, UP), plane_dose(a, UP), rtol=0.01)
         for n in (SOUTH, EAST, NORTH):
             ra, rb = plane_dose(a, n) / plane_dose(a, UP), plane_dose(b, n) / plane_dose(b, UP)
