@@ -131,8 +131,8 @@ def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez19
         How the diffuse light is spread over the sky (:data:`SKY_MODELS`): the Perez 1993
         all-weather luminance distribution normalised to each sample's diffuse
         horizontal light, as Radiance ``gendaymtx`` does (default; :mod:`.allweather`,
-        evaluated on a grid at most 64 pixels wide for 2 samples an hour, repeated onto
-        the map's pixels and scaled to the diffuse dose), or the Perez 1990
+        evaluated on a grid at most 64 pixels wide for 2 samples an hour, interpolated
+        onto the map's pixels and scaled to the diffuse dose), or the Perez 1990
         transposition's isotropic dome + circumsolar point source + horizon band, the
         model of pvlib's plane-of-array irradiance (equal to it by construction).
 

@@ -38,6 +38,26 @@ def _coarse_factor(width, finest=128):
     return 1
 
 
+def _upsample(part, f):
+    """Bilinear interpolation of a (h, w) half-map between its pixel centres onto
+    (h f, w f) pixels; columns wrap round (azimuth), rows are clamped at the ends."""
+    if f == 1:
+        return part
+    h, w = part.shape
+
+    def axis(n, size):
+        x = (np.arange(n * f) + 0.5) / f - 0.5
+        i0 = np.floor(x).astype(int)
+        return i0, x - i0
+
+    r0, tr = axis(h, h)
+    r0c = np.clip(r0, 0, h - 1)
+    r1c = np.clip(r0 + 1, 0, h - 1)
+    rows = part[r0c] * (1.0 - tr)[:, None] + part[r1c] * tr[:, None]
+    c0, tc = axis(w, w)
+    return rows[:, c0 % w] * (1.0 - tc) + rows[:, (c0 + 1) % w] * tc
+
+
 def _diffuse_Perez1990(s, K_d, width, north, sky):
     """Isotropic dome, circumsolar point source and horizon band (Perez et al. 1990)."""
     d, omega = grid(width)
@@ -61,12 +81,12 @@ def _diffuse_Perez1990(s, K_d, width, north, sky):
 def _diffuse_Perez1993(s, coarse, photometric, width, north, sky):
     """All-weather luminance distribution (Perez et al. 1993), gendaymtx's normalisation,
     evaluated for the ``coarse`` samples on a grid at most :data:`PEREZ1993_GRID` pixels
-    wide, repeated onto the map's pixels and scaled to the diffuse horizontal dose of the
-    samples ``s``."""
+    wide, interpolated onto the map's pixels and scaled to the diffuse horizontal dose of
+    the samples ``s``."""
     f = _coarse_factor(width, PEREZ1993_GRID)
     K_d = coarse.K_diffuse if photometric else 1.0
     part = diffuse_sky_Perez1993(coarse, K_d * coarse.dhi * coarse.hours, width // f, north)
-    part = np.repeat(np.repeat(part, f, axis=0), f, axis=1)
+    part = _upsample(part, f)
     d, omega = grid(width)
     h = d.shape[0] // 2
     total = float(np.sum(part * omega[h:] * d[h:, :, 2]))
