@@ -18,6 +18,8 @@ the choices and benchmarks/daylight.py compares against pvlib.
 
 from __future__ import annotations
 
+import functools
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -145,7 +147,9 @@ def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez19
         ``direction_to_equirectangular``; see :mod:`.skygrid`).  Write it to an image
         with ``pixels.foreach_set`` (adding RGBA) and use it with an Environment Texture
         node, equirectangular, default vector: the World's strength is then 1 for
-        lux·h per year (scale by whatever the bake's lux unit is).
+        lux·h per year (scale by whatever the bake's lux unit is).  A fresh array each
+        call (the last 8 maps are memoised; a weather file is re-read when its
+        modification time or size changes).
 
     Notes
     -----
@@ -187,9 +191,29 @@ def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez19
     width = check_width(width)
     if sky not in SKY_MODELS:
         raise ValueError(f"unknown sky model {sky!r}; use one of {SKY_MODELS}")
+    return _sky_map(place, width, bool(ground), bool(photometric), sky, _file_stamp(place)).copy()
+
+
+def _file_stamp(place):
+    """What identifies the weather file's content for the cache: (mtime, size), or None."""
+    if place.weather is None:
+        return None
+    try:
+        st = os.stat(place.weather)
+    except OSError:
+        return None              # read_weather will raise the error a user can act on
+    return st.st_mtime_ns, st.st_size
+
+
+@functools.lru_cache(maxsize=8)
+def _sky_map(place, width, ground, photometric, sky, stamp):
+    """:func:`annual_sky_map`, memoised (a panel and a bake ask for the same map; a
+    weather file's (mtime, size) is part of the key, so an edited file is read again)."""
     s = sky_samples(place, substeps_for(width))
     coarse = sky_samples(place, PEREZ1993_SUBSTEPS) if sky == "Perez1993" else None
-    return accumulate(s, width, place.north, place.albedo, ground, photometric, sky, coarse)
+    m = accumulate(s, width, place.north, place.albedo, ground, photometric, sky, coarse)
+    m.setflags(write=False)
+    return m
 
 
 def plane_dose(sky_map, normal):

@@ -74,6 +74,30 @@ class TestAnnualSkyMap:
         assert london.shape == (WIDTH // 2, WIDTH) and london.dtype == np.float32
         assert np.all(np.isfinite(london)) and london.min() >= 0
 
+    def test_each_call_gets_its_own_array(self, london):
+        again = annual_sky_map(PLACES["London"], width=WIDTH)
+        np.testing.assert_array_equal(again, london)
+        again[:] = 0                                   # the memoised map is not touched
+        assert annual_sky_map(PLACES["London"], width=WIDTH).max() == london.max() > 0
+
+    def test_an_edited_weather_file_is_read_again(self, pvlib_data, tmp_path):
+        import os
+        import shutil
+
+        path = tmp_path / "w.tm2"
+        shutil.copy(pvlib_data / "12839.tm2", path)
+        place = Place.from_weather(path)
+        first = plane_dose(annual_sky_map(place, width=16, sky="Perez1990"), UP)
+        lines = path.read_text().splitlines(keepends=True)
+        # halve every GHI/DNI/DHI (columns 17-33 hold them with their flags)
+        halved = [ln if i == 0 else ln[:17] + "".join(
+            f"{int(ln[a:a + 4]) // 2:04d}" + ln[a + 4:a + 6] for a in (17, 23, 29)) + ln[35:]
+            for i, ln in enumerate(lines)]
+        path.write_text("".join(halved))
+        os.utime(path, ns=(1, 1))
+        second = plane_dose(annual_sky_map(place, width=16, sky="Perez1990"), UP)
+        assert 0.45 < second / first < 0.55
+
     def test_south_wall_beats_north_wall_in_the_north(self, london):
         assert plane_dose(london, SOUTH) > 2.5 * plane_dose(london, NORTH)
 
