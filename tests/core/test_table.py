@@ -37,7 +37,9 @@ def _table(K=6, S=2, q=2, T=5, seed=0):
     rng = np.random.default_rng(seed)
     curves = rng.normal(0, 0.2, (K, mix_lattice(S, q).shape[0], T, 3)).astype(np.float32)
     curves[:, :, 0] = 0.0                                      # no change at zero dose
-    return AgingTable.from_curves(curves, 1e6, S, q), curves
+    # the table holds half-precision values (as a GPU may): compare with those
+    return AgingTable.from_curves(curves, 1e6, S, q), curves.astype(np.float16).astype(
+        np.float32)
 
 
 class TestEvaluate:
@@ -84,6 +86,14 @@ class TestEvaluate:
         whole = evaluate(table, texels, 7.0)
         monkeypatch.setattr(mod, "_BLOCK", 333)
         np.testing.assert_array_equal(evaluate(table, texels, 7.0), whole)
+
+
+def test_the_table_holds_half_precision_values():
+    """Both evaluators read the same numbers: half precision, as a GPU may hold them."""
+    curves = np.random.default_rng(4).normal(0, 1, (3, 1, 4, 3)).astype(np.float32)
+    table = AgingTable.from_curves(curves, 1.0, 1, 2)
+    np.testing.assert_array_equal(table.values, curves.astype(np.float16).astype(np.float32))
+    assert np.abs(table.values - curves).max() > 0
 
 
 class TestImages:
