@@ -73,11 +73,13 @@ def write(copy, ager, lights, at_bake, restored=False):
     rgba[:, :len(keys)] = rates.T / np.float32(ager.table.max_dose)
     rate = _image(RATE_PREFIX + copy.name, (w, h), True)
     write_rgba(rate, rgba)
+    rate.use_half_precision = True                # renderers may hold it as half floats
 
     table = ager.table
     tw, th = table_layout(table)
     timage = _image(TABLE_PREFIX + copy.name, (tw, th), True)
     write_rgba(timage, table_pixels(table))
+    timage.use_half_precision = True              # its values are half precision already
     timage[TABLE_INFO] = dict(max_dose=table.max_dose, q=table.q, S=table.S, T=table.T,
                               keys=table.keys)
 
@@ -143,8 +145,7 @@ def read(copy, original):
     S, T, q, K = info["S"], info["T"], info["q"], info["keys"]
     slots = (q + 1) ** (S - 1)
     values = read_rgba(props.table_image).reshape(-1, 4)[:K * slots * T, :3]
-    table = AgingTable(np.ascontiguousarray(values).reshape(K, slots, T, 3),
-                       float(info["max_dose"]), q, S)
+    table = AgingTable.from_values(values.reshape(K, slots, T, 3), info["max_dose"], S, q)
     codes = np.rint(read_rgba(props.key_image)[..., :3] * 255.0).astype(np.int32)
     key = (codes[..., 0] << 16) | (codes[..., 1] << 8) | codes[..., 2]
     H, W = key.shape

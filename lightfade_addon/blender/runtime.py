@@ -31,6 +31,9 @@ from .vocabulary import RECIPE_IDS, SPECTRUM_IDS
 MIN_PREPARED_YEARS = 100.0
 #: The grid every preparation uses (the tests of bookkeeping patch in a coarser one).
 GRID_SETTINGS = GridSettings()
+#: A copy's aging table holds at most as many entries as its texture has texels (its
+#: image then weighs what the aged image of the same texture did), within these bounds.
+TABLE_ENTRIES = (1 << 18, 1 << 22)
 
 
 def prepared_range(years):
@@ -140,7 +143,9 @@ def prepare(scene, copy, shape, progress=None):
     try:
         ager = TextureAger(rgba[..., :3], recipe, lights, exposure, max_years=props.max_years,
                            encoding="linear", settings=GRID_SETTINGS, progress=progress,
-                           store=SceneGridStore(scene), prior=prior, max_rate=max_rate)
+                           store=SceneGridStore(scene), prior=prior, max_rate=max_rate,
+                           table_entries=min(max(rgba.shape[0] * rgba.shape[1],
+                                                 TABLE_ENTRIES[0]), TABLE_ENTRIES[1]))
     except ValueError as err:
         raise AgingError(f"Material '{props.source.name}' on '{obj.name}': {err}") from None
     props.grid_key = ager.grid.key

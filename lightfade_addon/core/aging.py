@@ -92,6 +92,9 @@ class TextureAger:
     max_rate : float, optional
         Largest annual dose (lux·h) the table must cover besides the texels' own (the
         same exposure seen at another resolution, e.g. by a node group).
+    table_entries : int, optional
+        Most entries (key × light-mix slot × dose node) of the aging table; default
+        :data:`.table.TABLE_TEXELS`. Fewer entries, fewer keys: coarser colour bins.
 
     Attributes
     ----------
@@ -101,7 +104,7 @@ class TextureAger:
 
     def __init__(self, rgb, recipe, lights, exposure=None, *, max_years=100.0,
                  encoding="linear", settings=GridSettings(), cache=True, progress=None,
-                 store=None, prior=None, max_rate=None):
+                 store=None, prior=None, max_rate=None, table_entries=None):
         self.recipe = _as_recipe(recipe)
         if not isinstance(self.recipe, Recipe):
             raise TypeError("recipe must be a Recipe or a recipe name")
@@ -152,7 +155,7 @@ class TextureAger:
         key, c = texel_concentrations(
             flat if encoding == "srgb" else
             _blockwise(flat, lambda b: srgb_encode(np.clip(b, 0, 1))), unmixer,
-            max_keys=max_keys(S, self.grid.q, T))
+            max_keys=max_keys(S, self.grid.q, T, table_entries))
         say(0.85, f"change curves for {c.shape[0]} colour{'s' * (c.shape[0] != 1)}")
         curves = self.grid.curves(c, log_initial(self.grid, unmixer, c))     # (U, M, T, 3)
         self.table = AgingTable.from_curves(curves, self.grid.max_dose, S, self.grid.q)

@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import os
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -55,8 +55,10 @@ __all__ = ["AgingTable", "Texels", "TABLE_TEXELS", "TABLE_NODES_PER_ROW", "evalu
            "key_pixels", "mix_slots", "simplex_slots", "table_layout", "table_pixels",
            "texel_positions"]
 
-#: Most table entries (key × slot × dose node): one 2048 × 2048 float image's worth.
-TABLE_TEXELS = 1 << 22
+#: Most table entries (key × slot × dose node) by default: 96 MB in half precision, as
+#: the previous evaluator's table (the command line; Blender sizes a copy's table by its
+#: texture, :func:`max_keys`).
+TABLE_TEXELS = 1 << 23
 #: Dose-node runs per row of the table image (a run of T nodes never straddles rows).
 TABLE_NODES_PER_ROW = 63
 #: Texels evaluated per block (bounds the temporaries) and threads (numpy releases the GIL).
@@ -128,12 +130,18 @@ def simplex_slots(w, q):
 class AgingTable:
     """The change of every key along the dose axis, per light-mix slot.
 
+    Stored as :attr:`pairs`: each entry (key, slot, dose node ``t``) beside the entry of
+    node ``t + 1``, in half precision (as a GPU may hold the table image, so both
+    evaluators read the same numbers, within 0.05 % of the float32 logs): what the
+    numpy evaluator gathers, one 12-byte copy a texel and light-mix vertex.
+
     Attributes
     ----------
-    values : ndarray, shape (K, slots, T, 3), float32
-        ``log(XYZ_aged / XYZ_initial)`` at dose node ``t``, whose dose is
-        ``max_dose · (t / (T - 1))**3`` lux·h, rounded to half precision; unused slots
-        hold zeros.
+    pairs : ndarray, shape (K · slots · T, 6), float16
+        ``log(XYZ_aged / XYZ_initial)`` at dose node ``t`` (columns 0–2) and ``t + 1``
+        (columns 3–5; the last entry repeats itself); node ``t``'s dose is
+        ``max_dose · (t / (T - 1))**3`` lux·h. Unused slots hold zeros.
+    shape : (K, slots, T)
     max_dose : float
         lux·h of the last dose node.
     q : int
@@ -142,57 +150,59 @@ class AgingTable:
         Number of light spectra.
     """
 
-    values: np.ndarray
+    pairs: np.ndarray
+    shape: tuple
     max_dose: float
     q: int
     S: int
-    _pairs: np.ndarray = field(default=None, init=False, repr=False, compare=False)
+
+    @classmethod
+    def from_values(cls, values, max_dose, S, q):
+        """A table from its values (K, slots, T, 3) (rounded to half precision)."""
+        flat = np.asarray(values).reshape(-1, 3)
+        pairs = np.empty((flat.shape[0], 6), dtype=np.float16)
+        pairs[:, :3] = flat
+        pairs[:-1, 3:] = pairs[1:, :3]
+        pairs[-1:, 3:] = pairs[-1:, :3]
+        return cls(pairs, tuple(np.shape(values)[:3]), float(max_dose), int(q), int(S))
 
     @classmethod
     def from_curves(cls, curves, max_dose, S, q):
         """A table from the grid's change curves (keys, lattice rows, T, 3)."""
         rows = mix_slots(S, q)
         K, M, T, _ = curves.shape
-        values = np.zeros((K, rows.size, T, 3), dtype=np.float32)
+        values = np.zeros((K, rows.size, T, 3), dtype=np.float16)
         used = rows >= 0
-        # half precision, as a GPU may hold the table image: both evaluators read the
-        # same numbers (within 0.05 % of the float32 logs)
-        values[:, used] = curves[:, rows[used]].astype(np.float16)
-        return cls(values, float(max_dose), int(q), int(S))
+        values[:, used] = curves[:, rows[used]]
+        return cls.from_values(values, max_dose, S, q)
+
+    @property
+    def values(self):
+        """(K, slots, T, 3) float16 view of the entries."""
+        return self.pairs[:, :3].reshape(*self.shape, 3)
 
     @property
     def keys(self):
-        return self.values.shape[0]
+        return self.shape[0]
 
     @property
     def slots(self):
-        return self.values.shape[1]
+        return self.shape[1]
 
     @property
     def T(self):
-        return self.values.shape[2]
-
-    def pairs(self):
-        """Each entry beside the next dose node's, (entries, 6) float16: what the numpy
-        evaluator gathers, one 12-byte copy a texel and vertex (built once, kept)."""
-        if self._pairs is None:
-            flat = self.values.reshape(-1, 3).astype(np.float16)
-            pairs = np.empty((flat.shape[0], 6), dtype=np.float16)
-            pairs[:, :3] = flat
-            pairs[:-1, 3:] = flat[1:]
-            pairs[-1, 3:] = flat[-1]
-            object.__setattr__(self, "_pairs", pairs)
-        return self._pairs
+        return self.shape[2]
 
     def max_years(self, rate):
         """Years until a texel of annual dose ``rate`` lux·h reaches the last node."""
         return self.max_dose / rate if rate > 0 else np.inf
 
 
-def max_keys(S, q, T):
+def max_keys(S, q, T, entries=None):
     """Most keys a table of ``S`` spectra, mix resolution ``q`` and ``T`` dose nodes holds
-    within :data:`TABLE_TEXELS` entries."""
-    return max(TABLE_TEXELS // ((q + 1) ** (S - 1) * T), 1)
+    within ``entries`` (default :data:`TABLE_TEXELS`)."""
+    entries = TABLE_TEXELS if entries is None else int(entries)
+    return max(entries // ((q + 1) ** (S - 1) * T), 1)
 
 
 @dataclass
@@ -249,7 +259,7 @@ def evaluate_change(table, positions, years):
     """``change`` (3, n) float32 of every texel after ``years``: the dose and mix
     interpolation of :func:`evaluate`, before ``exp`` (for reports and tests)."""
     sigma, rows, weights = positions
-    nodes = np.ascontiguousarray(table.values, dtype=np.float32).reshape(-1, 3)
+    nodes = table.values.reshape(-1, 3).astype(np.float32)
     pos = np.minimum(sigma * np.float32(float(years) ** (1.0 / DOSE_POWER)),
                      np.float32(table.T - 1))
     i = np.minimum(pos.astype(np.int32), table.T - 2)
@@ -291,7 +301,7 @@ def evaluate(table, texels, years, positions=None, out=None):
     res = np.empty((n, 3), dtype=np.float32) if out is None else out
     root = np.float32(float(years) ** (1.0 / DOSE_POWER))
     # a key's values at dose nodes i and i + 1 in half precision are one 12-byte item
-    items = table.pairs().view(np.dtype((np.void, 12))).ravel()
+    items = table.pairs.view(np.dtype((np.void, 12))).ravel()
     last = np.float32(table.T - 1)
     to_rgb = _to_rgb()
 
@@ -356,7 +366,7 @@ def table_pixels(table):
     nodes at one slot) at row ``run // per_row``, columns ``(run % per_row) · T + t``."""
     W, H = table_layout(table)
     flat = np.zeros((H * W, 4), dtype=np.float32)
-    flat[:table.values.size // 3, :3] = table.values.reshape(-1, 3)
+    flat[:table.pairs.shape[0], :3] = table.pairs[:, :3]
     flat[:, 3] = 1.0
     return flat.reshape(H, W, 4)
 
