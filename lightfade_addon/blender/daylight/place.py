@@ -92,8 +92,9 @@ _WEATHER = {}
 
 
 def read_weather(path):
-    """:func:`..core.daylight.read_weather` of ``path``, cached on its size and time;
-    :class:`DaylightError` naming the file when it is missing or unreadable."""
+    """:func:`..core.daylight.read_weather` of ``path`` (a check that it reads), cached
+    on its size and time; :class:`DaylightError` naming the file when it is missing or
+    unreadable."""
     try:
         st = os.stat(path)
     except OSError:
@@ -124,9 +125,13 @@ def scene_place(scene):
     lat, lon, north, _where = source
     props = scene.lightfade_daylight
     path = weather_path(scene)
-    weather = read_weather(path) if path else None
-    return _daylight.Place(latitude=lat, longitude=lon, north=north, weather=weather,
-                           albedo=props.albedo, altitude=props.altitude)
+    if path:
+        read_weather(path)  # a missing or unreadable file: one line naming it
+    try:
+        return _daylight.Place(latitude=lat, longitude=lon, north=north, weather=path,
+                               albedo=props.albedo, altitude=props.altitude)
+    except ValueError as err:
+        raise DaylightError(f"The scene's place cannot be used: {err}") from None
 
 
 _SKY = {}

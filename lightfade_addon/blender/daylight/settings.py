@@ -8,12 +8,14 @@ year and the sky, baked once (:mod:`..bake.daylight`); sun lamps and a world sta
 daylight are muted in that bake.
 """
 
+import re
+
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 from bpy.types import PropertyGroup
 
 from ...core.daylight import PLACES
-from ..vocabulary import PRIOR_SPECTRUM_ITEMS, enum_id
+from ..vocabulary import PRIOR_SPECTRUM_ITEMS
 
 #: Hours and days the daylight group's map counts: its lux is the year-round mean
 #: illuminance (annual lux·h / 8760 h), so ``lux × 24 × 365`` is the annual dose.
@@ -21,11 +23,11 @@ DAYLIGHT_HOURS_PER_DAY = 24.0
 DAYLIGHT_DAYS_PER_YEAR = 365.0
 
 #: Preset enum identifier -> name in :data:`PLACES`.
-PLACE_IDS = {enum_id(name): name for name in PLACES}
+PLACE_IDS = {re.sub(r"[^A-Z0-9]+", "_", name.upper()).strip("_"): name for name in PLACES}
 
 PRESET_ITEMS = (
     ("CUSTOM", "Custom", "The latitude, longitude and weather below"),
-    *((key, name.replace("-", " ").title(),
+    *((key, name,
        f"{PLACES[name].latitude:.2f}°, {PLACES[name].longitude:.2f}°")
       for key, name in PLACE_IDS.items()),
 )
