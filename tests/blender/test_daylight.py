@@ -405,3 +405,43 @@ class TestDoseView:
         assert jnd_dose.std() / jnd_dose.mean() < 0.05
         shade = (dose < 0.2 * dose.max()) & (dose > 0)
         assert np.all(years[shade] > 2.0 * np.median(years[lit]))
+
+
+class TestPanel:
+    def test_panel_says_what_happens_to_the_sun_and_shows_doses_per_material(self, floor_scene):
+        from types import SimpleNamespace
+
+        from lightfade_addon.blender.daylight.panel import VIEW3D_PT_lightfade_daylight
+        from tests.blender.test_panels import RecordingLayout as Recording
+
+        class RecordingLayout(Recording):       # operator() gives the properties to set
+            def _child(self, *args, **kwargs):
+                return RecordingLayout(self.calls)
+
+            row = column = box = split = _child
+
+            def operator(self, idname, **kwargs):
+                super().operator(idname, **kwargs)
+                return SimpleNamespace()
+
+        scene = bpy.context.scene
+        _settle(scene)
+        floor = floor_scene["floor"]
+
+        def draw(obj):
+            calls = []
+            panel = SimpleNamespace(layout=RecordingLayout(calls))
+            VIEW3D_PT_lightfade_daylight.draw(panel, SimpleNamespace(scene=scene, object=obj))
+            return calls
+
+        labels = [t for k, t in draw(floor) if k == "label"]
+        assert any(t.startswith("No place") for t in labels)
+        api.set_daylight(scene, 52.0, 4.5)
+        _bake(scene, [floor], samples=2, resolution=16)
+        calls = draw(floor)
+        labels = [t for k, t in calls if k == "label"]
+        assert any("Muted in the bake" in t and "Sun" in t for t in labels)
+        assert any(t.startswith("Carpet ← Daylight") for t in labels)
+        dose = api.annual_dose(scene, floor)["Daylight"]
+        assert any(f"{dose.max() / 1e6:.3g} Mlx·h /" in t for t in labels)
+        assert ("operator", "lightfade.dose_view") in calls
