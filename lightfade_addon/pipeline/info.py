@@ -169,6 +169,9 @@ def stale(scene):
                              "emitters that are gone or excluded from aging (ignored)")
             elif isinstance(key, str):
                 lines.append(key)
+            elif _daylight_bake.sky_changed(scene, m.image):
+                lines.append(f"Object '{obj.name}': the map for '{m.name}' was baked for "
+                             "another place, north or weather (bake again)")
     for copy in aged_copies(scene):
         props = copy.lightfade
         if not props.source.lightfade.enabled:

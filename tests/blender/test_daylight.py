@@ -445,3 +445,28 @@ class TestPanel:
         dose = api.annual_dose(scene, floor)["Daylight"]
         assert any(f"{dose.max() / 1e6:.3g} Mlx·h /" in t for t in labels)
         assert ("operator", "lightfade.dose_view") in calls
+
+
+class TestInfo:
+    def test_info_shows_the_place_and_annual_doses_per_material_and_a_moved_place(
+            self, floor_scene):
+        from lightfade_addon.pipeline import info
+
+        scene = bpy.context.scene
+        _settle(scene)
+        floor = floor_scene["floor"]
+        report = info.gather(scene)
+        assert report["daylight"] is None
+        api.set_daylight(scene, 52.0, 4.5, north=10.0)
+        _bake(scene, [floor], samples=2, resolution=16)
+        report = info.gather(scene)
+        assert report["daylight"]["annual"] and report["daylight"]["muted_lamps"] == ["Sun"]
+        (row,) = report["material_doses"]
+        dose = api.annual_dose(scene, floor)["Daylight"]
+        assert (row["material"], row["group"]) == ("Carpet", "Daylight")
+        assert row["max"] == pytest.approx(float(dose.max()), rel=1e-5)
+        text = info.as_text({**report, "file": "x.blend"})
+        assert "daylight: 52.00°, 4.50°, north 10°" in text and "Carpet <- Daylight" in text
+        assert not any("another place" in line for line in report["stale"])
+        api.set_daylight(scene, 40.0, 4.5, north=10.0)
+        assert any("another place" in line for line in info.gather(scene)["stale"])

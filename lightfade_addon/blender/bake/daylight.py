@@ -102,6 +102,27 @@ def use_annual_world(state, scene):
     return world
 
 
+#: Image property recording the place and weather a daylight map was baked for.
+SKY_STAMP = "lightfade_sky"
+
+
+def sky_stamp(scene):
+    """A string naming what the annual sky depends on (place, north, weather, albedo...)."""
+    return repr(_place.sky_key(scene))
+
+
+def stamp(image, scene, group):
+    """Record on a daylight group's map the place and weather it was baked for."""
+    if any(e.kind == "DAYLIGHT" for e in group.emitters):
+        image[SKY_STAMP] = sky_stamp(scene)
+
+
+def sky_changed(scene, image):
+    """True when a daylight map was baked for another place, north or weather."""
+    baked = image.get(SKY_STAMP) if image is not None else None
+    return baked is not None and daylight_active(scene) and baked != sky_stamp(scene)
+
+
 def daylight_emitter(scene):
     """``(name, kind)`` of the daylight emitter when annual daylight is active, else None."""
     return (DAYLIGHT_EMITTER, "DAYLIGHT") if daylight_active(scene) else None

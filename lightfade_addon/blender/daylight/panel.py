@@ -4,7 +4,7 @@ lamps, the annual doses of the active object per material, and the false-colour 
 import bpy
 
 from ..bake.common import LightFadeBakeError
-from ..bake.daylight import replaced_lamps
+from ..bake.daylight import replaced_lamps, sky_changed
 from .doses import material_doses
 from .place import DaylightError, place_source, read_weather, sun_position_settings, weather_path
 from .view import view_objects
@@ -23,6 +23,9 @@ def draw_doses(layout, scene, obj):
         return
     box = layout.box()
     box.label(text=f"{obj.name}: annual dose per material (max / mean per year)")
+    if any(sky_changed(scene, m.image) for m in obj.lightfade.exposure_maps):
+        box.label(text="Daylight was baked for another place, north or weather: bake again",
+                  icon="ERROR")
     for row in rows[:12]:
         line = box.row()
         line.label(text=f"{row['material']} ← {row['group']}")
