@@ -123,7 +123,7 @@ class TestAnnualSkyMap:
 
     def test_map_integral_matches_direct_model_on_planes(self):
         place = PLACES["Madrid"]
-        m = annual_sky_map(place, width=128, photometric=False)
+        m = annual_sky_map(place, width=WIDTH, photometric=False)
         for n in (UP, SOUTH, EAST, NORTH, (0, -1, 1)):
             assert np.isclose(plane_dose(m, n), dl.annual_irradiation(place, n), rtol=0.02), n
 
@@ -141,3 +141,197 @@ class TestPlace:
             Place(95.0, 0.0)
         with pytest.raises(ValueError, match="albedo"):
             Place(50.0, 0.0, albedo=1.5)
+
+
+# ---- against pvlib (a test requirement of both stacks: requirements*.txt) -------------
+
+@pytest.fixture(scope="module")
+def pvlib():
+    return pytest.importorskip("pvlib")
+
+
+@pytest.fixture(scope="module")
+def pvlib_data(pvlib):
+    import pathlib
+
+    return pathlib.Path(pvlib.__file__).parent / "data"
+
+
+def _unit(zenith, azimuth):
+    z, a = np.radians(zenith), np.radians(azimuth)
+    return np.stack([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)], -1)
+
+
+class TestSunPosition:
+    @pytest.mark.parametrize("lat, lon", [(51.5, -0.13), (-33.9, 151.2), (1.3, 103.8), (64.1, -21.9)])
+    def test_within_a_hundredth_of_a_degree_of_spa(self, pvlib, lat, lon):
+        import pandas as pd
+
+        times = pd.date_range("2025-01-01", "2026-01-01", freq="173min", tz="UTC")
+        ref = pvlib.solarposition.spa_python(times, lat, lon)
+        z, a = dl.sun_position(Place(lat, lon), times.tz_convert(None).to_numpy())
+        up = ref["apparent_zenith"].to_numpy() < 89.0
+        cos = np.sum(_unit(z, a) * _unit(ref["apparent_zenith"].to_numpy(), ref["azimuth"].to_numpy()), -1)
+        assert np.degrees(np.arccos(np.clip(cos[up], -1, 1))).max() < 0.01
+
+    def test_noon_sun_is_south_in_the_north_and_north_in_the_south(self):
+        t = np.array(["2025-06-21T12:00"], "datetime64[m]")
+        z, a = dl.sun_position(PLACES["London"], t)
+        assert abs(a[0] - 180) < 3 and abs(z[0] - (51.5 - 23.44)) < 0.5
+        z, a = dl.sun_position(Place(-33.87, 0.0), t)
+        assert (a[0] < 3 or a[0] > 357) and abs(z[0] - (33.87 + 23.44)) < 0.5
+
+
+class TestClearSky:
+    def test_ineichen_matches_pvlib(self, pvlib):
+        from lightfade_addon.core.clearsky import clearsky_Ineichen2002
+
+        z = np.linspace(0, 89.9, 200)
+        tl = np.linspace(2, 6, 200)
+        for alt in (0.0, 657.0, 2000.0):
+            am = pvlib.atmosphere.get_absolute_airmass(pvlib.atmosphere.get_relative_airmass(z),
+                                                       pvlib.atmosphere.alt2pres(alt))
+            ref = pvlib.clearsky.ineichen(z, am, tl, altitude=alt, dni_extra=1400.0)
+            ghi, dni, dhi = clearsky_Ineichen2002(z, tl, alt, 1400.0)
+            for ours, key in ((ghi, "ghi"), (dni, "dni"), (dhi, "dhi")):
+                np.testing.assert_allclose(ours, ref[key], rtol=1e-9, atol=1e-9)
+
+    def test_linke_table_is_pvlibs_climatology(self, pvlib):
+        import pandas as pd
+
+        from lightfade_addon.core.clearsky import LINKE_TURBIDITY
+
+        times = pd.date_range("2025-01-15", periods=12, freq="MS", tz="UTC") + pd.Timedelta(days=14)
+        for (lat, lon), table in LINKE_TURBIDITY.items():
+            ref = pvlib.clearsky.lookup_linke_turbidity(times, lat, lon, interp_turbidity=False)
+            np.testing.assert_allclose(table, ref.to_numpy(), atol=1e-9)
+
+
+class TestPerez:
+    def test_sky_diffuse_on_planes_matches_pvlib(self, pvlib):
+        from lightfade_addon.core import perez
+
+        rng = np.random.default_rng(1)
+        n = 500
+        z = rng.uniform(0, 89, n)
+        sa = rng.uniform(0, 360, n)
+        dhi = rng.uniform(5, 400, n)
+        dni = rng.uniform(0, 900, n)
+        e0 = 1361.0
+        am = pvlib.atmosphere.get_relative_airmass(z)
+        eps = perez.sky_clearness(dni, dhi, z)
+        F1, F2 = perez.perez_F1_F2(eps, perez.sky_brightness(dhi, am, e0), z)
+        for tilt, az in ((0, 180), (90, 180), (90, 0), (35, 120)):
+            ref = pvlib.irradiance.perez(tilt, az, dhi, dni, e0, z, sa, am)
+            n_ = _unit(tilt, az)
+            a = np.maximum(_unit(z, sa) @ n_, 0)
+            ours = dhi * ((1 - F1) * (1 + np.cos(np.radians(tilt))) / 2
+                          + F1 * a / np.maximum(np.cos(np.radians(z)), np.cos(np.radians(85)))
+                          + F2 * np.sin(np.radians(tilt)))
+            np.testing.assert_allclose(np.maximum(ours, 0), ref, rtol=1e-9, atol=1e-9)
+
+    def test_efficacy_bounds(self):
+        from lightfade_addon.core import perez
+
+        # a clear high sun (ε bin 8) and an overcast sky (bin 1), W = 2 cm
+        K_b, K_d = perez.luminous_efficacy(np.array([8.0, 1.02]), np.array([0.12, 0.3]),
+                                           np.array([30.0, 30.0]))
+        assert 90 < K_b[0] < 110 and 110 < K_d[0] < 160      # Perez 1990, fig. 6-7 ranges
+        assert 100 < K_d[1] < 130
+        with pytest.raises(ValueError, match="Perez1990"):
+            perez.luminous_efficacy(8.0, 0.1, 30.0, method="constant")
+
+
+class TestWeatherFiles:
+    def test_tmy3_matches_pvlib_reader(self, pvlib, pvlib_data):
+        from lightfade_addon.core.weather import read_weather
+
+        path = pvlib_data / "723170TYA.CSV"
+        ref, meta = pvlib.iotools.read_tmy3(path, coerce_year=2025, map_variables=True)
+        wx = read_weather(path)
+        assert (wx.latitude, wx.longitude, wx.altitude, wx.timezone) == (36.1, -79.95, 273.0, -5.0)
+        assert len(wx.times) == 8760
+        order = np.argsort(ref.index.tz_convert("UTC").tz_localize(None).to_numpy(), kind="stable")
+        for ours, key in ((wx.ghi, "ghi"), (wx.dni, "dni"), (wx.dhi, "dhi"), (wx.dew_point, "temp_dew")):
+            np.testing.assert_allclose(ours, ref[key].to_numpy(float)[order])
+        # first record: 01/01 01:00 local standard time (UTC-5) = 06:00 UTC, the hour's end
+        assert wx.times[0] == np.datetime64("2025-01-01T06:00:00")
+
+    def test_tmy2_matches_pvlib_reader(self, pvlib, pvlib_data):
+        from lightfade_addon.core.weather import read_weather
+
+        path = pvlib_data / "12839.tm2"
+        ref, meta = pvlib.iotools.read_tmy2(path)
+        wx = read_weather(path)
+        assert np.isclose(wx.latitude, meta["latitude"]) and np.isclose(wx.longitude, meta["longitude"])
+        assert (wx.altitude, wx.timezone) == (meta["altitude"], meta["TZ"])
+        for ours, key in ((wx.ghi, "GHI"), (wx.dni, "DNI"), (wx.dhi, "DHI")):
+            assert np.isclose(ours.sum(), ref[key].sum())
+        np.testing.assert_allclose(wx.dew_point[:48], ref["DewPoint"].to_numpy(float)[:48] / 10)
+        # pvlib stamps the hour's start: ours is its end, in UTC
+        start = ref.index[0].tz_convert("UTC").tz_localize(None).to_datetime64()
+        assert str(wx.times[0])[5:16] == str(start + np.timedelta64(1, "h"))[5:16] == "01-01T06:00"
+
+    def test_epw_matches_pvlib_reader(self, pvlib, pvlib_data, tmp_path):
+        # pvlib ships no EPW: write the TMY3 file's first two days as one, read it both ways
+        from lightfade_addon.core.weather import read_tmy3, read_weather
+
+        src = read_tmy3(pvlib_data / "723170TYA.CSV")
+        header = ["LOCATION,GREENSBORO,NC,USA,TMY3,723170,36.10,-79.95,-5.0,273.0",
+                  "DESIGN CONDITIONS,0", "TYPICAL/EXTREME PERIODS,0", "GROUND TEMPERATURES,0",
+                  "HOLIDAYS/DAYLIGHT SAVINGS,No,0,0,0", "COMMENTS 1,test", "COMMENTS 2,test",
+                  "DATA PERIODS,1,1,Data,Sunday, 1/ 1,12/31"]
+        rows = []
+        for i in range(48):
+            local = src.times[i] - np.timedelta64(5, "h")
+            day = int(str(local)[8:10]) - (1 if str(local)[11:13] == "00" else 0)
+            hour = int(str(local)[11:13]) or 24
+            rows.append(f"1988,1,{day},{hour},60,?,10.0,{src.dew_point[i]:.1f},80,99000,0,0,300,"
+                        f"{src.ghi[i]:.0f},{src.dni[i]:.0f},{src.dhi[i]:.0f},0,0,0,0,0,0,0,0,0,0,"
+                        "9,999999999,0,0,0,0,0,0,0")          # 35 fields
+        path = tmp_path / "greensboro.epw"
+        path.write_text("\n".join(header + rows) + "\n")
+        ref, meta = pvlib.iotools.read_epw(path)
+        wx = read_weather(path)
+        assert (wx.latitude, wx.longitude, wx.timezone, wx.altitude) == (36.1, -79.95, -5.0, 273.0)
+        np.testing.assert_allclose(wx.ghi, ref["ghi"].to_numpy(float))
+        np.testing.assert_allclose(wx.dni, src.dni[:48])
+        assert wx.times[0] == np.datetime64("2025-01-01T06:00:00")
+
+    def test_unknown_file_is_a_clear_error(self, tmp_path):
+        from lightfade_addon.core.weather import WeatherFileError, read_weather
+
+        p = tmp_path / "x.txt"
+        p.write_text("hello")
+        with pytest.raises(WeatherFileError, match="unknown weather file type"):
+            read_weather(p)
+        with pytest.raises(WeatherFileError, match="no such weather file"):
+            read_weather(tmp_path / "missing.epw")
+
+
+class TestAgainstPvlibAnnual:
+    def test_tmy3_planes_within_five_percent(self, pvlib, pvlib_data):
+        # the benchmark's check on one weather file, at a coarse map width
+        import pandas as pd
+
+        path = pvlib_data / "703165TY.csv"
+        data, meta = pvlib.iotools.read_tmy3(path, coerce_year=2025, map_variables=True)
+        times = data.index - pd.Timedelta("30min")
+        sp = pvlib.solarposition.get_solarposition(times, meta["latitude"], meta["longitude"],
+                                                   altitude=meta["altitude"])
+        e0 = pvlib.irradiance.get_extra_radiation(times)
+        place = Place(meta["latitude"], meta["longitude"], weather=str(path))
+        m = annual_sky_map(place, width=WIDTH, photometric=False)
+        ref = {}
+        for name, tilt, az, n in (("H", 0, 180, UP), ("S", 90, 180, SOUTH), ("E", 90, 90, EAST),
+                                  ("N", 90, 0, NORTH)):
+            poa = pvlib.irradiance.get_total_irradiance(
+                tilt, az, sp["apparent_zenith"].to_numpy(), sp["azimuth"].to_numpy(),
+                data["dni"].to_numpy(float), data["ghi"].to_numpy(float), data["dhi"].to_numpy(float),
+                dni_extra=e0.to_numpy(), albedo=0.2, model="perez")["poa_global"]
+            ref[name] = (np.nansum(poa), plane_dose(m, n))
+        assert np.isclose(ref["H"][1], ref["H"][0], rtol=0.05)
+        for k in "SEN":
+            assert np.isclose(ref[k][1] / ref["H"][1], ref[k][0] / ref["H"][0], rtol=0.05), k
+        lux = plane_dose(annual_sky_map(place, width=WIDTH), UP)
+        assert 90 < lux / ref["H"][0] < 130

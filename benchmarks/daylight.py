@@ -1,0 +1,206 @@
+"""Annual daylight on unobstructed planes: LightFade's sky map against pvlib.
+
+    ./run py -m benchmarks.daylight              # prints the table, writes docs/daylight_benchmark.md
+    ./run py -m benchmarks.daylight --width 256  # a coarser map
+    ./run py -m benchmarks.daylight --no-write
+
+For each place and weather, the annual irradiation (kWh/m^2) on a horizontal plane and on
+vertical planes facing N, E, S, W:
+
+* **pvlib** (the field's reference): solar position NREL SPA
+  (``solarposition.get_solarposition``, apparent zenith), clear sky
+  ``Location.get_clearsky(model='ineichen')`` with pvlib's own Linke turbidity lookup
+  (monthly, ``interp_turbidity=False``) on 5-minute steps; weather files read by
+  ``iotools.read_tmy3`` / ``read_tmy2`` with the sun at mid-hour; the plane by
+  ``irradiance.get_total_irradiance(model='perez')`` (Perez 1990 all-sites coefficients,
+  ``dni_extra`` Spencer 1971, ground albedo as in the map, 0.2);
+* **ours**: ``plane_dose(annual_sky_map(place, photometric=False), normal)``, the
+  cosine-weighted integral of the radiometric map over the plane's hemisphere (our own
+  numpy solar position, Ineichen-Perez and Perez split), and the photometric map's
+  dose in Mlx·h; their ratio is the annual luminous efficacy our Perez et al. (1990)
+  efficacy model implies (``lux·h / W·h``), also shown against pvlib's W·h.
+
+Δ% = ours / pvlib - 1; "V/H" = vertical over horizontal.  Target (issue 21): within ±5 %
+on the horizontal and on V/H; horizontal lux·h over pvlib's W·h between 90 and 130 lm/W.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import pathlib
+import time
+
+import numpy as np
+
+from lightfade_addon.core.daylight import PLACES, Place, annual_sky_map, plane_dose
+
+PLANES = {  # name: (scene normal with north = 0, pvlib tilt, pvlib surface azimuth)
+    "horizontal": ((0, 0, 1), 0.0, 180.0),
+    "N": ((0, 1, 0), 90.0, 0.0),
+    "E": ((1, 0, 0), 90.0, 90.0),
+    "S": ((0, -1, 0), 90.0, 180.0),
+    "W": ((-1, 0, 0), 90.0, 270.0),
+}
+ALBEDO = 0.2
+
+
+def pvlib_data():
+    import pvlib
+
+    return pathlib.Path(pvlib.__file__).parent / "data"
+
+
+def cases():
+    """(label, Place): two clear-sky places and three weather files shipped with pvlib."""
+    from lightfade_addon.core.weather import read_weather
+
+    out = [("London, clear sky", PLACES["London"]), ("Madrid, clear sky", PLACES["Madrid"]),
+           ("Sydney, clear sky", PLACES["Sydney"])]
+    for label, name in (("Greensboro NC, TMY3", "723170TYA.CSV"),
+                        ("Sand Point AK, TMY3", "703165TY.csv"),
+                        ("Miami FL, TMY2", "12839.tm2")):
+        path = pvlib_data() / name
+        wx = read_weather(path)
+        out.append((f"{label} ({name})",
+                    Place(wx.latitude, wx.longitude, weather=str(path), albedo=ALBEDO,
+                          altitude=wx.altitude)))
+    return out
+
+
+def _plane_sums(times, zenith, azimuth, ghi, dni, dhi, dni_extra, hours):
+    """pvlib's Perez plane-of-array irradiation per plane, W·h/m^2."""
+    import pvlib
+
+    out = {}
+    for name, (_, tilt, az) in PLANES.items():
+        poa = pvlib.irradiance.get_total_irradiance(
+            tilt, az, zenith, azimuth, dni, ghi, dhi, dni_extra=dni_extra, albedo=ALBEDO,
+            model="perez")["poa_global"]
+        out[name] = float(np.nansum(np.asarray(poa)) * hours)
+    return out
+
+
+def pvlib_reference(place):
+    """Annual W·h/m^2 per plane and the file's illuminance column when there is one."""
+    import pandas as pd
+    import pvlib
+
+    if place.weather is None:
+        times = pd.date_range("2025-01-01 00:02:30", "2025-12-31 23:57:30", freq="5min", tz="UTC")
+        loc = pvlib.location.Location(place.latitude, place.longitude, altitude=place.altitude)
+        sp = loc.get_solarposition(times)
+        tl = pvlib.clearsky.lookup_linke_turbidity(times, place.latitude, place.longitude,
+                                                   interp_turbidity=False)
+        cs = loc.get_clearsky(times, model="ineichen", solar_position=sp, linke_turbidity=tl)
+        ghi, dni, dhi, hours, illum = cs["ghi"], cs["dni"], cs["dhi"], 5.0 / 60.0, None
+    else:
+        path = pathlib.Path(place.weather)
+        # pvlib stamps TMY3 rows with the hour's end (as the file) but TMY2 rows with the
+        # hour's start (``hour - 1``); the sun goes to the middle of the hour either way
+        if path.suffix.lower() == ".csv":
+            data, meta = pvlib.iotools.read_tmy3(path, coerce_year=2025, map_variables=True)
+            illum = data["GH illum (lx)"].to_numpy(float)
+            times = data.index - pd.Timedelta("30min")
+        else:
+            data, meta = pvlib.iotools.read_tmy2(path)
+            illum = data["GHillum"].to_numpy(float) * 100.0   # TMY2: hundreds of lux
+            times = data.index + pd.Timedelta("30min")
+        cols = ("ghi", "dni", "dhi") if "ghi" in data else ("GHI", "DNI", "DHI")
+        ghi, dni, dhi = (data[c] for c in cols)
+        sp = pvlib.solarposition.get_solarposition(times, meta["latitude"], meta["longitude"],
+                                                   altitude=meta["altitude"])
+        ghi, dni, dhi = (pd.Series(np.asarray(v, float), index=times) for v in (ghi, dni, dhi))
+        hours = 1.0
+    dni_extra = pvlib.irradiance.get_extra_radiation(times)
+    sums = _plane_sums(times, sp["apparent_zenith"], sp["azimuth"], ghi, dni, dhi, dni_extra, hours)
+    return sums, illum
+
+
+def ours(place, width):
+    w = annual_sky_map(place, width=width, photometric=False)
+    lx = annual_sky_map(place, width=width)
+    return ({n: plane_dose(w, v) for n, (v, _, _) in PLANES.items()},
+            {n: plane_dose(lx, v) for n, (v, _, _) in PLANES.items()})
+
+
+def pct(a, b):
+    return 100.0 * (a / b - 1.0)
+
+
+def run(width):
+    rows, worst = [], {"horizontal": 0.0, "V/H": 0.0}
+    effs = []
+    for label, place in cases():
+        t0 = time.perf_counter()
+        ref, illum = pvlib_reference(place)
+        t_ref = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        wh, lxh = ours(place, width)
+        t_ours = time.perf_counter() - t0
+        eff = lxh["horizontal"] / wh["horizontal"]
+        eff_ref = lxh["horizontal"] / ref["horizontal"]
+        effs.append((label, eff, eff_ref, illum, lxh["horizontal"], ref["horizontal"], t_ref, t_ours))
+        for name in PLANES:
+            d = pct(wh[name], ref[name])
+            if name == "horizontal":
+                worst["horizontal"] = max(worst["horizontal"], abs(d))
+                vh = ("", "", "")
+            else:
+                r_ref = ref[name] / ref["horizontal"]
+                r_ours = wh[name] / wh["horizontal"]
+                worst["V/H"] = max(worst["V/H"], abs(pct(r_ours, r_ref)))
+                vh = (f"{r_ref:.3f}", f"{r_ours:.3f}", f"{pct(r_ours, r_ref):+.2f}")
+            rows.append((label, name, f"{ref[name] / 1e3:,.1f}", f"{wh[name] / 1e3:,.1f}", f"{d:+.2f}",
+                         *vh, f"{lxh[name] / 1e6:,.1f}"))
+    return rows, effs, worst
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--width", type=int, default=512, help="sky map width (default 512)")
+    parser.add_argument("--no-write", action="store_true", help="do not write docs/daylight_benchmark.md")
+    args = parser.parse_args(argv)
+    rows, effs, worst = run(args.width)
+    out = [
+        "# Annual daylight on unobstructed planes: LightFade against pvlib",
+        "",
+        f"Generated by `./run py -m benchmarks.daylight` (sky map {args.width} × {args.width // 2}) — "
+        "do not edit by hand. See docs/daylight.md for the models and `benchmarks/daylight.py` "
+        "for how pvlib is called. Ground albedo 0.2.",
+        "",
+        "| place, weather | plane | pvlib kWh/m² | ours kWh/m² | Δ% | pvlib V/H | ours V/H | Δ% V/H | ours Mlx·h |",
+        "|---|---|---:|---:|---:|---:|---:|---:|---:|",
+    ]
+    out += ["| " + " | ".join(r) + " |" for r in rows]
+    out += [
+        "",
+        f"Largest |Δ|: horizontal {worst['horizontal']:.2f} %, vertical/horizontal ratios "
+        f"{worst['V/H']:.2f} % (target ±5 %).",
+        "",
+        "Luminous efficacy: Perez, Ineichen, Seals, Michalsky & Stewart (1990), *Solar Energy* "
+        "44(5) 271-289, direct-normal and diffuse-horizontal models (table 4), precipitable "
+        "water from the file's dew point (clear sky: 2 cm). Annual horizontal values:",
+        "",
+        "| place, weather | ours lux·h / ours W·h (lm/W) | ours lux·h / pvlib W·h (lm/W) | "
+        "file's own GH illuminance, Mlx·h | ours Mlx·h | pvlib s | ours s (two maps) |",
+        "|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for label, eff, eff_ref, illum, lx, wh_ref, t_ref, t_ours in effs:
+        file_illum = ""
+        if illum is not None:
+            file_illum = f"{illum.sum() / 1e6:,.1f}"
+            if illum.max() < 5000:   # noon daylight is ~100 klx: not lux in this file
+                file_illum += (f" (max {illum.max():.0f}, so not lux; × 100: "
+                               f"{illum.sum() * 100 / 1e6:,.1f})")
+        out.append(f"| {label} | {eff:.1f} | {eff_ref:.1f} | {file_illum} | {lx / 1e6:,.1f} | "
+                   f"{t_ref:.2f} | {t_ours:.2f} |")
+    text = "\n".join(out) + "\n"
+    print(text)
+    if not args.no_write:
+        path = pathlib.Path(__file__).resolve().parents[1] / "docs" / "daylight_benchmark.md"
+        path.write_text(text)
+
+
+if __name__ == "__main__":
+    main()
