@@ -71,6 +71,7 @@ def bake(api, scene, objects, samples):
 def make(out, density=64.0, samples=16):
     from lightfade_addon import api
     from lightfade_addon.blender.daylight import colours
+    from lightfade_addon.blender.daylight.doses import HORIZON_YEARS
     from lightfade_addon.blender.daylight.view import view_values
     import matplotlib
 
@@ -111,11 +112,11 @@ def make(out, density=64.0, samples=16):
 
     fig, axes = plt.subplots(1, 2, figsize=(8.4, 4.6), dpi=110)
     for ax, mode in zip(axes, ("DOSE", "YEARS")):
-        images, scale = {}, None
-        rug_values, rug_scale, note = view_values(scene, scene.objects[names["rug"]], mode)
+        rug_values, _, _ = view_values(scene, scene.objects[names["rug"]], mode)
         floor_values, _, _ = view_values(scene, scene.objects[names["floor"]], mode)
-        scale = rug_scale if mode == "YEARS" else colours.dose_scale(
-            np.concatenate([rug_values.ravel(), floor_values.ravel()]))
+        both = np.concatenate([rug_values.ravel(), floor_values.ravel()])
+        scale = (colours.years_scale(both, HORIZON_YEARS)
+                 if mode == "YEARS" else colours.dose_scale(both))
         images = {names["rug"]: colours.false_colour(rug_values, scale)[..., :3],
                   names["floor"]: colours.false_colour(floor_values, scale)[..., :3]}
         ax.imshow(top_view(images, objects), origin="lower", extent=(-2, 2, -2, 2))
@@ -123,7 +124,8 @@ def make(out, density=64.0, samples=16):
                      fontsize=8)
         ax.tick_params(labelsize=6)
         legend = out / f"daylight_legend_{mode.lower()}.png"
-        colours.write_legend(str(legend), scale, note if mode == "YEARS" else "")
+        colours.write_legend(str(legend), scale, "grey: no visible fade within "
+                             f"{HORIZON_YEARS:g} years" if mode == "YEARS" else "grey: no light")
     fig.tight_layout()
     fig.savefig(out / "daylight_dose_view.png")
     plt.close(fig)

@@ -65,8 +65,9 @@ def ramp(t):
     return rgb
 
 
-def dose_scale(doses, span=1000.0):
-    """Scale of annual doses (lux·h/yr): the largest down to ``1/span`` of it."""
+def dose_scale(doses, span=100.0):
+    """Scale of annual doses (lux·h/yr): the largest down to ``1/span`` of it (darker
+    texels take the dark end; unlit ones are grey)."""
     v = np.asarray(doses, dtype=np.float64)
     v = v[np.isfinite(v) & (v > 0)]
     high = float(v.max()) if v.size else 1.0
@@ -74,12 +75,18 @@ def dose_scale(doses, span=1000.0):
 
 
 def years_scale(years, horizon):
-    """Scale of years until a noticeable fade: from the soonest (at most 1 year) to the
-    horizon; the soonest is the brightest."""
+    """Scale of years until a noticeable fade, from the soonest texels (1st percentile)
+    to the slowest that fade within ``horizon`` (99th percentile); the soonest is the
+    brightest, texels that do not fade within the horizon are grey."""
     v = np.asarray(years, dtype=np.float64)
     v = v[np.isfinite(v) & (v > 0)]
-    low = min(float(v.min()) if v.size else 1.0, 1.0)
-    return LogScale(max(low, horizon * 1e-5), float(horizon), "years",
+    if v.size:
+        low, high = np.percentile(v, [1.0, 99.0])
+    else:
+        low, high = 1.0, horizon
+    low = max(float(low), horizon * 1e-5)
+    high = min(max(float(high), low * 10.0), float(horizon))
+    return LogScale(min(low, high / 10.0), high, "years",
                     "Years until a just-noticeable fade (ΔE00 = 1)", reverse=True)
 
 
