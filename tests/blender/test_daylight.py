@@ -470,3 +470,28 @@ class TestInfo:
         assert not any("another place" in line for line in report["stale"])
         api.set_daylight(scene, 40.0, 4.5, north=10.0)
         assert any("another place" in line for line in info.gather(scene)["stale"])
+
+
+class TestOperators:
+    def test_dose_view_operator_shows_writes_a_legend_and_clears(self, floor_scene, tmp_path):
+        scene = bpy.context.scene
+        floor = floor_scene["floor"]
+        api.bake(scene, objects=[floor])
+        bpy.context.view_layer.objects.active = floor
+        legend = tmp_path / "legend.png"
+        assert bpy.ops.lightfade.dose_view(mode="DOSE", legend=str(legend)) == {"FINISHED"}
+        assert "LF_DoseView.Floor" in bpy.data.objects and floor.hide_get()
+        try:
+            import matplotlib  # noqa: F401
+
+            assert legend.stat().st_size > 1000
+        except ImportError:
+            assert not legend.exists()
+        assert bpy.ops.lightfade.dose_view_clear() == {"FINISHED"}
+        assert "LF_DoseView.Floor" not in bpy.data.objects and not floor.hide_get()
+
+    def test_dose_view_without_maps_is_refused_with_the_objects_name(self, floor_scene):
+        bpy.context.view_layer.objects.active = floor_scene["floor"]
+        with pytest.raises(RuntimeError, match="Floor"):
+            bpy.ops.lightfade.dose_view(mode="DOSE")
+        assert "LF_DoseView.Floor" not in bpy.data.objects
