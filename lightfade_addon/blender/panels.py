@@ -82,7 +82,9 @@ class VIEW3D_PT_lightfade_bake(LightFadeSidebarMixin, bpy.types.Panel):
         box.label(text=f"{obj.name}: exposure maps (UV \"{obj.lightfade.uv_map}\")")
         for item in obj.lightfade.exposure_maps:
             schedule = emitter_schedule(context.scene, item.emitter, item.emitter_kind)
-            _draw_dose(box, item.emitter, image_max(item.image), schedule)
+            label = ("Daylight (lx: year-round mean)" if item.emitter_kind == "DAYLIGHT"
+                     else item.emitter)
+            _draw_dose(box, label, image_max(item.image), schedule)
 
 
 class VIEW3D_PT_lightfade_emitter(LightFadeSidebarMixin, bpy.types.Panel):

@@ -154,8 +154,9 @@ class TestSetDaylight:
         scene.lightfade_daylight.latitude = 52.0        # typed: a place
         scene.lightfade_daylight.weather = str(tmp_path / "gone.epw")
         floor = _plane("Floor", 2.0, (0, 0, 0))
-        with pytest.raises(ValueError, match="gone.epw"):
+        with pytest.raises(RuntimeError, match="gone.epw.*not found"):  # before any Cycles work
             _bake(scene, [floor], samples=1, resolution=16)
+        assert not len(floor.lightfade.exposure_maps)
 
 
 class TestPlaceSources:

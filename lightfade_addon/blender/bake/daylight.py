@@ -46,12 +46,23 @@ def stands_for_daylight(scene, schedule, kind):
             and daylight_active(scene))
 
 
+def problem(scene):
+    """One line saying why the daylight group cannot be baked (a weather file missing or
+    unreadable, a place out of range), or None; no sky map is computed."""
+    try:
+        _place.scene_place(scene)
+    except _place.DaylightError as err:
+        return str(err)
+    return None
+
+
 def replaced_lamps(scene):
     """Names of the sun lamps (and ``"World"``) that annual daylight mutes, in scene order."""
     if not daylight_active(scene):
         return []
     names = [o.name for o in scene.objects
              if o.type == "LIGHT" and o.data.type == "SUN" and not o.hide_render
+             and o.data.lightfade.enabled and o.data.energy > 0.0
              and stands_for_daylight(scene, o.data.lightfade, "SUN")]
     world = scene.world
     if world is not None and world.lightfade.enabled and world.lightfade.spectrum != "AUTO" \

@@ -131,6 +131,8 @@ class ExposureBake:
         for msg in warnings:
             self._warn(msg)
         emitters = find_emitters(scene, layer)
+        if any(e.kind == "DAYLIGHT" for e in emitters) and _daylight.problem(scene):
+            problems.append(_daylight.problem(scene))
         if not emitters:
             problems.append(
                 "No emitters in the scene: add a lamp or an emissive mesh, or give the world a "
