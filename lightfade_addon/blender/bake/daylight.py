@@ -118,8 +118,10 @@ SKY_STAMP = "lightfade_sky"
 
 
 def sky_stamp(scene):
-    """A string naming what the annual sky depends on (place, north, weather, albedo...)."""
-    return repr(_place.sky_key(scene))
+    """A string naming what the annual sky depends on (place, north, weather, albedo and
+    altitude; not the map's width)."""
+    key = _place.sky_key(scene)
+    return repr(key[:-1] if key is not None else None)
 
 
 def stamp(image, scene, group):
