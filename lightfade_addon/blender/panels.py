@@ -8,6 +8,7 @@ from .apply import aged_copies
 from .copies import original
 from .vocabulary import RECIPE_IDS
 from .source import material_plan
+from .bake.daylight import stands_for_daylight
 from .bake.panel import draw_bake_panel
 from .stats import annual_dose, emitter_schedule, image_max
 from .status import copy_status
@@ -102,6 +103,9 @@ class VIEW3D_PT_lightfade_emitter(LightFadeSidebarMixin, bpy.types.Panel):
         obj = context.object
         if obj.type == "LIGHT":
             schedule = obj.data.lightfade
+            if stands_for_daylight(context.scene, schedule, obj.data.type):
+                layout.label(text="Annual daylight replaces this sun in the exposure bake "
+                             "(muted there; it still lights renders)", icon="HIDE_ON")
         else:
             schedule = obj.lightfade_emitter
             layout.label(text="Used if the mesh has an emissive material", icon="INFO")
@@ -122,6 +126,9 @@ class VIEW3D_PT_lightfade_world(LightFadeSidebarMixin, bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         schedule = context.scene.world.lightfade
+        if schedule.spectrum != "AUTO" and stands_for_daylight(context.scene, schedule, "WORLD"):
+            layout.label(text="Annual daylight replaces this sky in the exposure bake",
+                         icon="HIDE_ON")
         _draw_schedule(layout, schedule)
         _draw_lit_objects(layout.box(), context.scene, "World", schedule)
 

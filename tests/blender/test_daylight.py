@@ -447,6 +447,13 @@ class TestPanel:
         dose = api.annual_dose(scene, floor)["Daylight"]
         assert any(f"{dose.max() / 1e6:.3g} Mlx·h /" in t for t in labels)
         assert ("operator", "lightfade.dose_view") in calls
+        from lightfade_addon.blender.panels import VIEW3D_PT_lightfade_emitter
+
+        sun = floor_scene["sun"]
+        calls = []
+        VIEW3D_PT_lightfade_emitter.draw(SimpleNamespace(layout=RecordingLayout(calls)),
+                                         SimpleNamespace(scene=scene, object=sun))
+        assert any("replaces this sun" in t for k, t in calls if k == "label")
 
 
 class TestInfo:
