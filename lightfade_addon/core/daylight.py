@@ -2,27 +2,32 @@
 
 The annual daylight of a place becomes one equirectangular environment map whose pixels
 hold the year's cumulative luminance (lux·h per steradian, i.e. cd·h/m^2 per year): the
-sun's direct light in the pixels of its path, the Perez 1990 sky (isotropic dome,
-circumsolar light at the sun, a horizon band) and, below the horizon, the ground lit by
-the global horizontal light.  The cosine-weighted integral of the map over the
+sun's direct light in the pixels of its path, the sky's diffuse light spread by the Perez
+1993 all-weather distribution (or the Perez 1990 split) and, below the horizon, the
+ground lit by the global horizontal light.  The cosine-weighted integral of the map over the
 hemisphere around a normal is the annual illuminance dose on an unobstructed plane with
 that normal (:func:`plane_dose`), so a Cycles bake with this map as the World gives each
 texel its annual daylight dose in lux·h directly.
 
 Modules: :mod:`.solar` (sun position), :mod:`.clearsky` (Ineichen-Perez), :mod:`.weather`
-(EPW/TMY readers), :mod:`.perez` (sky split and efficacy), :mod:`.skysamples` (the year's
-samples), :mod:`.skygrid` (Blender's equirectangular frame).  docs/daylight.md explains
+(EPW/TMY readers), :mod:`.perez` (clearness, the 1990 split, efficacy), :mod:`.allweather`
+(the 1993 distribution), :mod:`.skysamples` (the year's samples), :mod:`.skygrid`
+(Blender's equirectangular frame).  docs/daylight.md explains
 the choices and benchmarks/daylight.py compares against pvlib.
 """
 
 from __future__ import annotations
 
+import functools
+import os
 from dataclasses import dataclass
 
 import numpy as np
 
-from .perez import luminous_efficacy, luminous_efficacy_Perez1990
-from .skygrid import direction_to_pixel, grid, scene_to_enu, sun_direction_scene
+from .perez import COS_85, luminous_efficacy, luminous_efficacy_Perez1990
+from .skygrid import (check_width, grid, north_from_sun_position_addon, scene_to_enu,
+                      sun_direction_scene)
+from .skymap import PEREZ1993_SUBSTEPS, SKY_MODELS, accumulate, substeps_for
 from .skysamples import SkySamples, sky_samples
 from .solar import sun_position
 from .weather import Weather, WeatherFileError, read_weather
@@ -30,6 +35,7 @@ from .weather import Weather, WeatherFileError, read_weather
 __all__ = [
     "Place",
     "PLACES",
+    "SKY_MODELS",
     "annual_sky_map",
     "plane_dose",
     "annual_irradiation",
@@ -38,13 +44,13 @@ __all__ = [
     "read_weather",
     "sun_position",
     "sun_direction_scene",
+    "north_from_sun_position_addon",
     "Weather",
     "WeatherFileError",
     "SkySamples",
     "sky_samples",
 ]
 
-_COS85 = np.cos(np.radians(85.0))
 
 
 @dataclass(frozen=True)
@@ -76,6 +82,14 @@ class Place:
     albedo: float = 0.2
     altitude: float = 0.0
 
+    @classmethod
+    def from_weather(cls, path, north=0.0, albedo=0.2):
+        """The place of a weather file's station (its header's latitude, longitude and
+        altitude), with that file as its weather."""
+        wx = read_weather(path)
+        return cls(wx.latitude, wx.longitude, north=north, weather=str(path), albedo=albedo,
+                   altitude=wx.altitude)
+
     def __post_init__(self):
         if not -90.0 <= self.latitude <= 90.0:
             raise ValueError(f"latitude must be within -90..90 degrees, got {self.latitude!r}")
@@ -100,49 +114,7 @@ PLACES = {
 }
 
 
-def _substeps_for(width):
-    """Sub-intervals per hour so that the sun moves at most about half a pixel (the
-    sun crosses at most 15°/h; a pixel is 360/width degrees)."""
-    return max(6, int(np.ceil(width / 12.0)))
-
-
-def _accumulate(s: SkySamples, width, north, albedo, ground, photometric):
-    """The map from samples; see :func:`annual_sky_map`."""
-    d, omega = grid(width)
-    H, W = d.shape[:2]
-    K_b = s.K_direct if photometric else 1.0
-    K_d = s.K_diffuse if photometric else 1.0
-    cos_z = np.cos(np.radians(s.zenith))
-    # point sources at the sun: direct normal + circumsolar (its normal-incidence value)
-    normal = (K_b * s.dni + K_d * s.F1 * s.dhi / np.maximum(cos_z, _COS85)) * s.hours
-    idx = direction_to_pixel(sun_direction_scene(s.zenith, s.azimuth, north), width)
-    sky = np.bincount(idx, weights=normal, minlength=H * W).reshape(H, W) / omega
-    # horizon band: a line source along the horizon giving F2·DHI·sin(tilt) on a plane,
-    # i.e. F2·DHI/2 per radian of azimuth, in the first row above the horizon
-    band = float(np.sum(K_d * s.F2 * s.dhi * s.hours)) / 2.0
-    h = H // 2
-    dtheta = np.pi / H
-    band_L = band / np.sin(dtheta)
-    sky[h] += band_L
-    band_horizontal = band_L * float(np.sum(omega[h] * d[h, :, 2]))
-    # isotropic dome: (1 - F1)·DHI on the horizontal, less what the band row already gives
-    iso = float(np.sum(K_d * (1.0 - s.F1) * s.dhi * s.hours)) - band_horizontal
-    up = d[h:, :, 2]
-    sky[h:] += iso / float(np.sum(omega[h:] * up))
-    if ground:
-        beam_h = s.dni * cos_z
-        if photometric:
-            total = beam_h + s.dhi
-            k_g = np.where(total > 0, (s.K_direct * beam_h + s.K_diffuse * s.dhi)
-                           / np.where(total > 0, total, 1.0), 0.0)
-            glob = float(np.sum(k_g * s.ghi * s.hours))
-        else:
-            glob = float(np.sum(s.ghi * s.hours))
-        sky[:h] += albedo * glob / float(np.sum(omega[:h] * -d[:h, :, 2]))
-    return np.maximum(sky, 0.0).astype(np.float32)
-
-
-def annual_sky_map(place, width=512, ground=True, photometric=True):
+def annual_sky_map(place, width=512, ground=True, photometric=True, sky="Perez1993"):
     """Annual cumulative sky (sun + sky + ground) as a Blender equirectangular map.
 
     Parameters
@@ -157,6 +129,14 @@ def annual_sky_map(place, width=512, ground=True, photometric=True):
     photometric : bool
         True: lux·h per year per steradian (cd·h·m^-2 per year), with the Perez 1990
         luminous efficacies; False: W·h·m^-2·sr^-1 per year (for checks against pvlib).
+    sky : {"Perez1993", "Perez1990"}
+        How the diffuse light is spread over the sky (:data:`SKY_MODELS`): the Perez 1993
+        all-weather luminance distribution normalised to each sample's diffuse
+        horizontal light, as Radiance ``gendaymtx`` does (default; :mod:`.allweather`,
+        evaluated on a grid at most 64 pixels wide for 2 samples an hour, interpolated
+        onto the map's pixels and scaled to the diffuse dose), or the Perez 1990
+        transposition's isotropic dome + circumsolar point source + horizon band, the
+        model of pvlib's plane-of-array irradiance (equal to it by construction).
 
     Returns
     -------
@@ -167,7 +147,9 @@ def annual_sky_map(place, width=512, ground=True, photometric=True):
         ``direction_to_equirectangular``; see :mod:`.skygrid`).  Write it to an image
         with ``pixels.foreach_set`` (adding RGBA) and use it with an Environment Texture
         node, equirectangular, default vector: the World's strength is then 1 for
-        lux·h per year (scale by whatever the bake's lux unit is).
+        lux·h per year (scale by whatever the bake's lux unit is).  A fresh array each
+        call (the last 8 maps are memoised; a weather file is re-read when its
+        modification time or size changes).
 
     Notes
     -----
@@ -177,6 +159,12 @@ def annual_sky_map(place, width=512, ground=True, photometric=True):
 
     * direct: ``K_b · DNI · Δt`` into the pixel of the sun's position, divided by the
       pixel's solid angle;
+    * sky, ``"Perez1993"``: ``K_d · DHI · Δt`` spread over the sky half by the
+      all-weather relative luminance (Perez, Seals & Michalsky 1993), whose
+      cosine-weighted integral is that dose;
+
+    or, with ``"Perez1990"``:
+
     * circumsolar: ``K_d · F1 · DHI / max(cos Z, cos 85°) · Δt`` into the same pixel
       (Perez et al. 1990, eq. 9: ``F1 · DHI · a / b`` on a plane);
     * horizon band: ``K_d · F2 · DHI / 2 · Δt`` per radian of azimuth, spread evenly in the
@@ -184,11 +172,15 @@ def annual_sky_map(place, width=512, ground=True, photometric=True):
     * isotropic: the rest of the diffuse light, ``K_d · (1 - F1) · DHI · Δt`` on the
       horizontal, evenly over the sky half (normalised by the discrete cosine sum so the
       horizontal dose is exact);
+
+    and with either:
+
     * ground (``ground=True``): ``albedo × global horizontal`` spread evenly below the
       horizon, so a plane of tilt β receives ``albedo · GHI · (1 - cos β) / 2``.
 
     Luminous efficacies K_b, K_d: Perez et al. 1990 (:mod:`.perez`).  Negative sums
-    (possible only in the horizon row, under mostly overcast climates) are clipped to 0.
+    (with ``"Perez1990"``, possible only in the horizon row under mostly overcast
+    climates) are clipped to 0.
 
     Examples
     --------
@@ -196,11 +188,32 @@ def annual_sky_map(place, width=512, ground=True, photometric=True):
     >>> m.shape, m.dtype
     ((32, 64), dtype('float32'))
     """
-    from .skygrid import check_width
-
     width = check_width(width)
-    s = sky_samples(place, _substeps_for(width))
-    return _accumulate(s, width, place.north, place.albedo, ground, photometric)
+    if sky not in SKY_MODELS:
+        raise ValueError(f"unknown sky model {sky!r}; use one of {SKY_MODELS}")
+    return _sky_map(place, width, bool(ground), bool(photometric), sky, _file_stamp(place)).copy()
+
+
+def _file_stamp(place):
+    """What identifies the weather file's content for the cache: (mtime, size), or None."""
+    if place.weather is None:
+        return None
+    try:
+        st = os.stat(place.weather)
+    except OSError:
+        return None              # read_weather will raise the error a user can act on
+    return st.st_mtime_ns, st.st_size
+
+
+@functools.lru_cache(maxsize=8)
+def _sky_map(place, width, ground, photometric, sky, stamp):
+    """:func:`annual_sky_map`, memoised (a panel and a bake ask for the same map; a
+    weather file's (mtime, size) is part of the key, so an edited file is read again)."""
+    s = sky_samples(place, substeps_for(width))
+    coarse = sky_samples(place, PEREZ1993_SUBSTEPS) if sky == "Perez1993" else None
+    m = accumulate(s, width, place.north, place.albedo, ground, photometric, sky, coarse)
+    m.setflags(write=False)
+    return m
 
 
 def plane_dose(sky_map, normal):
@@ -231,13 +244,13 @@ def plane_dose(sky_map, normal):
 
 
 def annual_irradiation(place, normal, substeps=12, photometric=False):
-    """Annual irradiation on an unobstructed plane straight from the model, no map.
+    """Annual irradiation on unobstructed planes straight from the model, no map.
 
     Parameters
     ----------
     place : Place
     normal : array_like
-        (3,) plane normal in scene coordinates.
+        (3,) plane normal in scene coordinates, or (N, 3) for N planes.
     substeps : int
         Sub-intervals per hour.
     photometric : bool
@@ -245,30 +258,30 @@ def annual_irradiation(place, normal, substeps=12, photometric=False):
 
     Returns
     -------
-    float
-        Sum over the year's samples of ``DNI · max(cos θ, 0)`` + the Perez 1990 sky
-        diffuse ``DHI · ((1 - F1)(1 + cos β)/2 + F1 a / b + F2 sin β)`` (clipped at 0
-        per sample, as pvlib does) + ``albedo · GHI · (1 - cos β)/2``, times each
-        sample's duration: the same model as pvlib's
-        ``get_total_irradiance(model='perez')``.
+    float or numpy.ndarray
+        (N,) for (N, 3) normals.  The sum over the year's samples of
+        ``DNI · max(cos θ, 0)`` + the Perez 1990 sky diffuse
+        ``DHI · ((1 - F1)(1 + cos β)/2 + F1 a / b + F2 sin β)`` (clipped at 0 per sample,
+        as pvlib does) + ``albedo · GHI · (1 - cos β)/2``, times each sample's duration:
+        the model of pvlib's ``get_total_irradiance(model='perez')``.
     """
     s = sky_samples(place, substeps)
-    n = scene_to_enu(np.asarray(normal, dtype=float) / np.linalg.norm(normal), place.north)
+    normal = np.asarray(normal, dtype=float)
+    n = scene_to_enu(normal / np.linalg.norm(normal, axis=-1, keepdims=True), place.north)
+    n2 = np.atleast_2d(n)                                           # (N, 3)
     z, a = np.radians(s.zenith), np.radians(s.azimuth)
     sun = np.stack([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)], axis=-1)
-    cos_t = np.maximum(sun @ n, 0.0)
-    cos_b = n[2]
-    sin_b = np.sqrt(max(0.0, 1.0 - cos_b * cos_b))
-    K_b = s.K_direct if photometric else 1.0
-    K_d = s.K_diffuse if photometric else 1.0
-    diffuse = s.dhi * ((1.0 - s.F1) * (1.0 + cos_b) / 2.0
-                       + s.F1 * cos_t / np.maximum(np.cos(z), _COS85) + s.F2 * sin_b)
-    beam_h = s.dni * np.cos(z)
-    if photometric:
-        total = beam_h + s.dhi
-        k_g = np.where(total > 0, (s.K_direct * beam_h + s.K_diffuse * s.dhi)
-                       / np.where(total > 0, total, 1.0), 0.0)
-    else:
-        k_g = 1.0
-    ground = place.albedo * k_g * s.ghi * (1.0 - cos_b) / 2.0
-    return float(np.sum((K_b * s.dni * cos_t + K_d * np.maximum(diffuse, 0.0) + ground) * s.hours))
+    cos_t = np.maximum(sun @ n2.T, 0.0)                             # (samples, N)
+    cos_b = n2[:, 2]
+    sin_b = np.sqrt(np.maximum(0.0, 1.0 - cos_b * cos_b))
+    K_b = s.K_direct[:, None] if photometric else 1.0
+    K_d = s.K_diffuse[:, None] if photometric else 1.0
+    col = lambda v: v[:, None]  # noqa: E731
+    diffuse = col(s.dhi) * ((1.0 - col(s.F1)) * (1.0 + cos_b) / 2.0
+                            + col(s.F1) * cos_t / col(np.maximum(np.cos(z), COS_85))
+                            + col(s.F2) * sin_b)
+    k_g = s.K_global if photometric else 1.0
+    ground = col(place.albedo * k_g * s.ghi) * (1.0 - cos_b) / 2.0
+    out = np.sum((K_b * col(s.dni) * cos_t + K_d * np.maximum(diffuse, 0.0) + ground)
+                 * col(s.hours), axis=0)
+    return float(out[0]) if n.ndim == 1 else out

@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "COS_85",
     "CLEARNESS_BINS",
     "PEREZ_1990_F",
     "EFFICACY_PEREZ_1990",
@@ -74,6 +75,10 @@ EFFICACY_PEREZ_1990 = {
 PRECIPITABLE_WATER_DEFAULT = 2.0
 
 _KAPPA = 1.041  # Perez et al. 1990, eq. 1, for the zenith in radians
+
+#: cos 85°: the floor of cos Z in the circumsolar term ``F1 · a / max(cos Z, cos 85°)``
+#: (Perez et al. 1990, eq. 9).
+COS_85 = float(np.cos(np.radians(85.0)))
 
 
 def sky_clearness(dni, dhi, zenith):
@@ -148,7 +153,8 @@ def precipitable_water_from_dew_point(dew_point):
     return np.exp(0.07 * np.asarray(dew_point, dtype=float) - 0.075)
 
 
-def luminous_efficacy_Perez1990(epsilon, delta, zenith, precipitable_water=PRECIPITABLE_WATER_DEFAULT):
+def luminous_efficacy_Perez1990(epsilon, delta, zenith,
+                                precipitable_water=PRECIPITABLE_WATER_DEFAULT):
     """Luminous efficacies of direct normal and diffuse horizontal light, lm/W.
 
     Parameters
@@ -180,7 +186,8 @@ def luminous_efficacy_Perez1990(epsilon, delta, zenith, precipitable_water=PRECI
     cd = EFFICACY_PEREZ_1990["direct"][b]
     cf = EFFICACY_PEREZ_1990["diffuse"][b]
     K_b = cd[..., 0] + cd[..., 1] * W + cd[..., 2] * np.exp(5.73 * z - 5.0) + cd[..., 3] * d
-    K_d = cf[..., 0] + cf[..., 1] * W + cf[..., 2] * np.cos(z) + cf[..., 3] * np.log(np.maximum(d, 0.01))
+    K_d = (cf[..., 0] + cf[..., 1] * W + cf[..., 2] * np.cos(z)
+           + cf[..., 3] * np.log(np.maximum(d, 0.01)))
     return np.maximum(K_b, 0.0), K_d
 
 

@@ -24,7 +24,7 @@ import functools
 import numpy as np
 
 __all__ = ["check_width", "grid", "direction_to_pixel", "scene_axes", "enu_to_scene",
-           "scene_to_enu", "sun_direction_scene"]
+           "scene_to_enu", "sun_direction_scene", "north_from_sun_position_addon"]
 
 
 def check_width(width):
@@ -130,3 +130,24 @@ def sun_direction_scene(zenith, azimuth, north=0.0):
     z, a = np.radians(np.asarray(zenith, dtype=float)), np.radians(np.asarray(azimuth, dtype=float))
     enu = np.stack([np.sin(z) * np.sin(a), np.sin(z) * np.cos(a), np.cos(z)], axis=-1)
     return enu_to_scene(enu, north)
+
+
+def north_from_sun_position_addon(north_offset):
+    """Our ``north`` (degrees) from Blender's Sun Position add-on's ``north_offset``.
+
+    The add-on (``sun_position/sun_calc.py``: ``azimuth += north_offset``, then
+    ``get_sun_vector``: ``(sin θ sin A, sin θ cos A, cos θ)`` with θ the zenith angle)
+    puts geographic azimuth ``a`` at ``a + north_offset`` clockwise from +Y, so north
+    turns *clockwise* by ``north_offset``; ours turns counterclockwise.
+
+    Parameters
+    ----------
+    north_offset : float
+        The add-on's property, radians (as stored in ``scene.sun_pos_properties``).
+
+    Returns
+    -------
+    float
+        ``-degrees(north_offset)``.
+    """
+    return -float(np.degrees(north_offset))

@@ -43,6 +43,8 @@ class SkySamples:
         Perez 1990 circumsolar and horizon brightening coefficients.
     K_direct, K_diffuse : numpy.ndarray
         Luminous efficacy of direct normal and diffuse light, lm/W.
+    epsilon, delta : numpy.ndarray
+        Perez sky clearness and brightness (NaN clearness where DHI = 0).
     latitude, longitude, altitude : float
         Where the sun was computed (the weather file's station when there is one).
     dropped_wh : float
@@ -60,10 +62,21 @@ class SkySamples:
     F2: np.ndarray
     K_direct: np.ndarray
     K_diffuse: np.ndarray
+    epsilon: np.ndarray
+    delta: np.ndarray
     latitude: float
     longitude: float
     altitude: float
     dropped_wh: float = 0.0
+
+    @property
+    def K_global(self):
+        """Luminous efficacy of the global horizontal light, lm/W:
+        ``(K_b DNI cos Z + K_d DHI) / (DNI cos Z + DHI)`` (0 where both are 0)."""
+        beam_h = self.dni * np.cos(np.radians(self.zenith))
+        total = beam_h + self.dhi
+        safe = np.where(total > 0, total, 1.0)
+        return np.where(total > 0, (self.K_direct * beam_h + self.K_diffuse * self.dhi) / safe, 0.0)
 
 
 def _sub_times(interval_starts, substeps):
@@ -79,7 +92,8 @@ def _samples(t, zenith, azimuth, dni, dhi, ghi, hours, water, lat, lon, alt, dro
     F1, F2 = perez_F1_F2(eps, delta, zenith)
     K_b, K_d = luminous_efficacy(eps, delta, zenith, water)
     return SkySamples(zenith=zenith, azimuth=azimuth, dni=dni, dhi=dhi, ghi=ghi, hours=hours,
-                      F1=F1, F2=F2, K_direct=K_b, K_diffuse=K_d, latitude=float(lat),
+                      F1=F1, F2=F2, K_direct=K_b, K_diffuse=K_d, epsilon=eps, delta=delta,
+                      latitude=float(lat),
                       longitude=float(lon), altitude=float(alt), dropped_wh=float(dropped))
 
 
@@ -93,7 +107,8 @@ def _clear_sky(place, substeps):
     t, z, a = t[up], z[up], a[up]
     month = (t.astype("datetime64[M]").astype(int) % 12) + 1
     tl = linke_turbidity(place.latitude, place.longitude, month)
-    ghi, dni, dhi = clearsky_Ineichen2002(z, tl, place.altitude, dni_extra_Spencer1971(day_of_year(t)))
+    e0 = dni_extra_Spencer1971(day_of_year(t))
+    ghi, dni, dhi = clearsky_Ineichen2002(z, tl, place.altitude, e0)
     w = np.full(z.shape, 1.0 / substeps)
     return _samples(t, z, a, dni, dhi, ghi, w, PRECIPITABLE_WATER_DEFAULT,
                     place.latitude, place.longitude, place.altitude)

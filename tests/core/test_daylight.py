@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from lightfade_addon.core import daylight as dl
-from lightfade_addon.core import skygrid, skysamples
+from lightfade_addon.core import skygrid, skymap, skysamples
 from lightfade_addon.core.daylight import PLACES, Place, annual_sky_map, plane_dose
 
 WIDTH = 64  # coarse maps keep the tests quick; the physics does not depend on the width
@@ -22,7 +22,7 @@ def london():
 
 @pytest.fixture(scope="module")
 def london_samples():
-    return skysamples.sky_samples(PLACES["London"], dl._substeps_for(WIDTH))
+    return skysamples.sky_samples(PLACES["London"], skymap.substeps_for(WIDTH))
 
 
 class TestSkyGrid:
@@ -54,6 +54,16 @@ class TestSkyGrid:
                                    (np.sin(np.radians(30)), -np.cos(np.radians(30)), 0),
                                    atol=1e-12)
 
+    def test_sun_position_addon_north_offset(self):
+        # Blender's Sun Position add-on: azimuth += north_offset; get_sun_vector gives
+        # (sin θ sin A, sin θ cos A, cos θ) (sun_position/sun_calc.py)
+        z, a, offset = 60.0, 130.0, np.radians(25.0)
+        A, th = np.radians(a) + offset, np.radians(z)
+        addon = (np.sin(th) * np.sin(A), np.sin(th) * np.cos(A), np.cos(th))
+        north = skygrid.north_from_sun_position_addon(offset)
+        assert north == pytest.approx(-25.0)
+        np.testing.assert_allclose(skygrid.sun_direction_scene(z, a, north), addon, atol=1e-12)
+
     def test_bad_width(self):
         with pytest.raises(ValueError, match="multiple of 4"):
             annual_sky_map(PLACES["London"], width=50)
@@ -63,6 +73,30 @@ class TestAnnualSkyMap:
     def test_shape_dtype_finite_nonnegative(self, london):
         assert london.shape == (WIDTH // 2, WIDTH) and london.dtype == np.float32
         assert np.all(np.isfinite(london)) and london.min() >= 0
+
+    def test_each_call_gets_its_own_array(self, london):
+        again = annual_sky_map(PLACES["London"], width=WIDTH)
+        np.testing.assert_array_equal(again, london)
+        again[:] = 0                                   # the memoised map is not touched
+        assert annual_sky_map(PLACES["London"], width=WIDTH).max() == london.max() > 0
+
+    def test_an_edited_weather_file_is_read_again(self, pvlib_data, tmp_path):
+        import os
+        import shutil
+
+        path = tmp_path / "w.tm2"
+        shutil.copy(pvlib_data / "12839.tm2", path)
+        place = Place.from_weather(path)
+        first = plane_dose(annual_sky_map(place, width=16, sky="Perez1990"), UP)
+        lines = path.read_text().splitlines(keepends=True)
+        # halve every GHI/DNI/DHI (columns 17-33 hold them with their flags)
+        halved = [ln if i == 0 else ln[:17] + "".join(
+            f"{int(ln[a:a + 4]) // 2:04d}" + ln[a + 4:a + 6] for a in (17, 23, 29)) + ln[35:]
+            for i, ln in enumerate(lines)]
+        path.write_text("".join(halved))
+        os.utime(path, ns=(1, 1))
+        second = plane_dose(annual_sky_map(place, width=16, sky="Perez1990"), UP)
+        assert 0.45 < second / first < 0.55
 
     def test_south_wall_beats_north_wall_in_the_north(self, london):
         assert plane_dose(london, SOUTH) > 2.5 * plane_dose(london, NORTH)
@@ -97,21 +131,21 @@ class TestAnnualSkyMap:
         s = london_samples
         glob = np.sum((s.K_direct * s.dni * np.cos(np.radians(s.zenith)) + s.K_diffuse * s.dhi) * s.hours)
         assert np.isclose(plane_dose(london, (0, 0, -1)), 0.2 * glob, rtol=1e-4)
-        whiter = annual_sky_map(dataclasses.replace(PLACES["London"], albedo=0.6), width=WIDTH)
+        whiter = annual_sky_map(dataclasses.replace(PLACES["London"], albedo=0.6), width=WIDTH,
+                                sky="Perez1990")
         assert np.isclose(plane_dose(whiter, (0, 0, -1)), 0.6 * glob, rtol=1e-4)
 
     def test_horizontal_dose_equals_the_samples_global(self, london, london_samples):
         s = london_samples
         beam = s.K_direct * s.dni * np.cos(np.radians(s.zenith))
-        F = np.maximum(np.cos(np.radians(s.zenith)), np.cos(np.radians(85)))
-        expected = np.sum((beam + s.K_diffuse * s.dhi * (1 - s.F1 + s.F1 * np.cos(np.radians(s.zenith)) / F)) * s.hours)
-        # the circumsolar pixel's cosine is its centre's: a small discretisation error
-        assert np.isclose(plane_dose(london, UP), expected, rtol=0.01)
+        expected = np.sum((beam + s.K_diffuse * s.dhi) * s.hours)
+        # the sun pixel's cosine is its centre's: a small discretisation error
+        assert np.isclose(plane_dose(london, UP), expected, rtol=0.005)
 
     def test_sun_pixels_hold_the_direct_normal_integral(self, london_samples):
         s = dataclasses.replace(london_samples, dhi=np.zeros_like(london_samples.dhi),
                                 F1=np.zeros_like(london_samples.F1), F2=np.zeros_like(london_samples.F2))
-        m = dl._accumulate(s, WIDTH, 0.0, 0.2, False, photometric=False)
+        m = skymap.accumulate(s, WIDTH, 0.0, 0.2, False, photometric=False, sky_model="Perez1990")
         _, omega = skygrid.grid(WIDTH)
         assert np.isclose((m * omega).sum(), np.sum(s.dni * s.hours), rtol=1e-5)
         # and only along the sun's path: nothing below the horizon, nothing above London's
@@ -123,9 +157,13 @@ class TestAnnualSkyMap:
 
     def test_map_integral_matches_direct_model_on_planes(self):
         place = PLACES["Madrid"]
-        m = annual_sky_map(place, width=WIDTH, photometric=False)
-        for n in (UP, SOUTH, EAST, NORTH, (0, -1, 1)):
-            assert np.isclose(plane_dose(m, n), dl.annual_irradiation(place, n), rtol=0.02), n
+        m = annual_sky_map(place, width=WIDTH, photometric=False, sky="Perez1990")
+        normals = (UP, SOUTH, EAST, NORTH, (0, -1, 1))
+        direct = dl.annual_irradiation(place, normals, substeps=skymap.substeps_for(WIDTH))
+        assert direct.shape == (5,)
+        assert np.isclose(direct[0], dl.annual_irradiation(place, UP, substeps=skymap.substeps_for(WIDTH)))
+        for n, ref in zip(normals, direct):
+            assert np.isclose(plane_dose(m, n), ref, rtol=0.02), n
 
     def test_luminous_efficacy_range(self, london):
         w = annual_sky_map(PLACES["London"], width=WIDTH, photometric=False)
@@ -134,6 +172,12 @@ class TestAnnualSkyMap:
 
 
 class TestPlace:
+    def test_from_weather_takes_the_station(self, pvlib_data):
+        place = Place.from_weather(pvlib_data / "12839.tm2", north=10.0)
+        assert (place.latitude, place.altitude, place.north) == (25.8, 2.0, 10.0)
+        assert place.longitude == pytest.approx(-80 - 16 / 60)
+        assert place.weather.endswith("12839.tm2")
+
     def test_presets_and_validation(self):
         assert {"London", "Amsterdam/52N", "Madrid", "New York", "Sydney"} <= set(PLACES)
         assert PLACES["Sydney"].latitude < 0 < PLACES["London"].latitude
@@ -335,3 +379,65 @@ class TestAgainstPvlibAnnual:
             assert np.isclose(ref[k][1] / ref["H"][1], ref[k][0] / ref["H"][0], rtol=0.05), k
         lux = plane_dose(annual_sky_map(place, width=WIDTH), UP)
         assert 90 < lux / ref["H"][0] < 130
+
+
+@pytest.fixture(scope="module")
+def few(london_samples):
+    """Every 37th of London's samples (spread over the year)."""
+    s = london_samples
+    pick = np.arange(0, s.zenith.size, 37)
+    arrays = {f.name: getattr(s, f.name)[pick] for f in dataclasses.fields(s)
+              if isinstance(getattr(s, f.name), np.ndarray)}
+    return dataclasses.replace(s, **arrays)
+
+
+class TestPerez1993:
+    """The all-weather distribution (``sky="Perez1993"``) on a subset of London's samples."""
+
+    def test_normalised_to_the_diffuse_horizontal_dose(self, few):
+        from lightfade_addon.core.allweather import diffuse_sky_Perez1993
+
+        w = few.dhi * few.hours
+        part = diffuse_sky_Perez1993(few, w, 32, 0.0)
+        d, omega = skygrid.grid(32)
+        assert np.isclose(np.sum(part * omega[8:] * d[8:, :, 2]), w.sum(), rtol=1e-6)   # float32 inside
+        assert part.min() >= 0
+
+    def test_a_sky_dark_everywhere_is_spread_isotropically(self, few):
+        from lightfade_addon.core.allweather import diffuse_sky_Perez1993
+
+        # an overcast, very bright sky with the sun on the horizon (a Greensboro TMY3 hour):
+        # the model's luminance is negative over the whole sky
+        one = dataclasses.replace(few, **{k: np.array([v]) for k, v in dict(
+            epsilon=1.0, delta=0.7735, zenith=89.891, azimuth=250.0, dhi=29.0, dni=0.0,
+            hours=1.0).items()})
+        part = diffuse_sky_Perez1993(one, np.array([29.0]), 32, 0.0)
+        d, omega = skygrid.grid(32)
+        assert np.isclose(np.sum(part * omega[8:] * d[8:, :, 2]), 29.0)
+        assert np.allclose(part, part[0, 0])
+
+    def test_clear_sky_is_brightest_round_the_sun_and_overcast_at_the_zenith(self):
+        from lightfade_addon.core.allweather import perez1993_parameters, relative_luminance_Perez1993
+
+        clear = perez1993_parameters(8.0, 0.15, 40.0)
+        near_sun = relative_luminance_Perez1993(clear, np.cos(np.radians(45)), np.radians(5))
+        away = relative_luminance_Perez1993(clear, np.cos(np.radians(45)), np.radians(90))
+        assert near_sun > 5 * away
+        overcast = perez1993_parameters(1.01, 0.3, 40.0)
+        zenith = relative_luminance_Perez1993(overcast, 1.0, np.radians(40))
+        horizon = relative_luminance_Perez1993(overcast, np.cos(np.radians(85)), np.radians(90))
+        assert 1.5 < zenith / horizon < 4.5          # CIE overcast sky: 3 (Moon & Spencer)
+
+    def test_planes_agree_with_the_1990_split_within_five_percent(self, few):
+        a = skymap.accumulate(few, WIDTH, 0.0, 0.2, True, False, "Perez1990")
+        b = skymap.accumulate(few, WIDTH, 0.0, 0.2, True, False, "Perez1993")
+        assert np.isclose(plane_dose(b, UP), plane_dose(a, UP), rtol=0.01)
+        for n in (SOUTH, EAST, NORTH):
+            ra, rb = plane_dose(a, n) / plane_dose(a, UP), plane_dose(b, n) / plane_dose(b, UP)
+            assert np.isclose(rb, ra, rtol=0.05), n
+        # the difference is in the sky, not the sun: the 1993 sky has no point source
+        assert (b[WIDTH // 4:] > 0).all()
+
+    def test_unknown_sky_model(self):
+        with pytest.raises(ValueError, match="sky model"):
+            annual_sky_map(PLACES["London"], width=WIDTH, sky="CIE")
