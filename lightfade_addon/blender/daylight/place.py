@@ -59,7 +59,7 @@ def sun_position_settings(scene):
     else:  # stored values; a key never written holds the add-on's default, 0
         lat, lon, offset = (float(group.get(k, 0.0))
                             for k in ("latitude", "longitude", "north_offset"))
-    return float(lat), float(lon), -math.degrees(float(offset))
+    return float(lat), float(lon), float(_daylight.north_from_sun_position_addon(float(offset)))
 
 
 # ----------------------------------------------------------------------- the place
