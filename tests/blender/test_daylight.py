@@ -504,3 +504,30 @@ class TestOperators:
         with pytest.raises(RuntimeError, match="Floor"):
             bpy.ops.lightfade.dose_view(mode="DOSE")
         assert "LF_DoseView.Floor" not in bpy.data.objects
+
+
+class TestMaterialDoses:
+    def test_each_material_counts_its_own_texels(self, blender):
+        """A floor whose right half is another material and lies in a shadow: each
+        material's dose is read over its own faces."""
+        from lightfade_addon.blender.daylight.doses import material_doses
+
+        scene = bpy.context.scene
+        bpy.ops.mesh.primitive_grid_add(x_subdivisions=4, y_subdivisions=4, size=2.0,
+                                        calc_uvs=True)
+        floor = bpy.context.active_object
+        floor.name = "Floor"
+        floor.data.materials.append(_material("Left"))
+        floor.data.materials.append(_material("Right"))
+        for poly in floor.data.polygons:
+            poly.material_index = int(poly.center.x > 0)
+        _mesh_object("Shade", [[(0.0, -3, 1), (3, -3, 1), (3, 3, 1), (0.0, 3, 1)]])
+        sun = _static_sun(90.0)                               # straight down
+        sun.data.lightfade.hours_per_day = 10.0
+        bpy.context.view_layer.update()
+        _bake(scene, [floor], samples=4, resolution=32)
+        rows = {r["material"]: r for r in material_doses(scene, floor)}
+        assert set(rows) == {"Left", "Right"}
+        dose = api.annual_dose(scene, floor)["Sun"]
+        assert rows["Left"]["max"] == pytest.approx(float(dose.max()), rel=1e-5)
+        assert rows["Right"]["mean"] < 0.3 * rows["Left"]["mean"]
