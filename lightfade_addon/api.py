@@ -14,6 +14,8 @@ add-on must be enabled (its properties are registered by ``register()``)::
     api.set_years(scene, 25)                          # the materials follow: no Python per pixel
     api.apply_aging(scene)                            # real aged images, for export
     api.material_plan(scene)                          # which path each material takes, why
+    api.set_daylight(scene, 52.0, 4.5, north=0.0)     # a place: one annual daylight bake
+    api.annual_dose(scene, obj)                       # {group: (H, W) lux·h per year}
     api.reset(scene)                                  # back to the original file
 
 From a checkout, ``import lightfade_addon.api`` after enabling ``lightfade_addon``.
@@ -22,7 +24,7 @@ From a checkout, ``import lightfade_addon.api`` after enabling ``lightfade_addon
 from __future__ import annotations
 
 __all__ = ["bake", "age_scene", "set_years", "keyframe_years", "apply_aging", "live_aging",
-           "reset", "material_plan", "AgingError"]
+           "reset", "material_plan", "set_daylight", "annual_dose", "AgingError"]
 
 
 def _bpy():
@@ -142,6 +144,38 @@ def material_plan(scene=None, objects=()):
 
     scene = _scene(scene)
     return material_status(scene, list(objects))
+
+
+def set_daylight(scene=None, latitude=0.0, longitude=0.0, north=0.0, weather=None):
+    """Give the scene a place and climate: daylight becomes one annual bake.
+
+    ``latitude`` (degrees north, -90..90) and ``longitude`` (degrees east, -180..180) of
+    the place; ``north`` the counterclockwise angle in degrees from the scene's +Y axis to
+    geographic north about +Z (0: +Y is north; 90: -X is north); ``weather`` None (a clear
+    sky every day) or the path of an EPW, TMY3 or TMY2 file.  Annual daylight is turned
+    on: the next bake lights the scene with the sun over every hour of the year and the
+    sky, and the sun lamps standing for daylight are muted in it.  Raises ``ValueError``
+    (one line naming the value or the file) before anything changes.  Returns the
+    scene's ``lightfade_daylight`` settings.
+    """
+    from .blender.daylight.place import set_daylight as _set
+
+    return _set(_scene(scene), latitude, longitude, north, weather)
+
+
+def annual_dose(scene=None, obj=None):
+    """``{light group name: (H, W) float32 lux·h per year}`` for ``obj``'s exposure maps.
+
+    Each group's map times its hours per day and days per year (the annual daylight
+    group: its year-round mean illuminance × 8760 h). Rows run bottom-up as in the
+    image (row 0 is UV v = 0). Raises ``RuntimeError`` (``LightFadeBakeError``) when the
+    object has no baked map of a counted emitter.
+    """
+    from .blender.daylight.doses import annual_dose as _dose
+
+    scene = _scene(scene)
+    obj = obj if obj is not None else _bpy().context.object
+    return _dose(scene, obj)
 
 
 def __getattr__(name):

@@ -186,6 +186,11 @@ def run_scene(name, out, preset, years=None, verbose=False):
         else:
             log(f"{name}:   emitter {em}: {sch['spectrum']}, {sch['hours_per_day']:g} h/day"
                 f"{', UV filter' if sch['uv_filter'] else ''}")
+    if tags.get("daylight"):
+        day = tags["daylight"]
+        log(f"{name}:   daylight: {day['latitude']:g}° N, {day['longitude']:g}° E, north "
+            f"{day['north']:g}°, {day.get('weather') or 'clear sky'}: one annual bake "
+            "(sun lamps and sky standing for daylight muted in the exposure bake)")
 
     # bake
     t0 = time.perf_counter()

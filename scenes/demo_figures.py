@@ -165,6 +165,9 @@ def write_docs(results, docs=DOCS_IMG):
         p = docs / "demo_room_before_after.png"
         save_small_png(side_by_side(strip, width=480), p)
         written.append(p)
+        p = docs / "demo_room_years.png"                # the sun's band growing, year by year
+        save_small_png(side_by_side(r["frames"], width=320), p)
+        written.append(p)
         dresser = r["extra"].get("Camera.Dresser", [])
         if dresser:
             p = docs / "demo_dresser.png"

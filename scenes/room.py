@@ -7,6 +7,12 @@ patch crosses the back of the rug, the floor in front of the dresser, the dresse
 with the lamp, and the lower part of the poster on the back wall (y = 2). The camera looks
 from the front-right corner toward the back-left.
 
+The room stands at 52° N with its window facing south (scene -X is geographic south:
+``north = -90``, +X is north) under a clear sky (:data:`PLACE`, the scene's
+``lightfade_place`` tag): its daylight exposure is one annual bake of the sun's path over
+the year and the sky, so the rug fades in a band swept by the sun, not in the window's
+shape at the render's instant.  The sun lamp and the sky colour still light the renders.
+
 Run ``python -m scenes.room out.blend`` to build and save; ``--render out.png`` renders too.
 """
 
@@ -34,6 +40,8 @@ RUG = dict(center=(-0.05, 0.55), size=(2.4, 1.6), height=0.006)
 POSTER = dict(center=(-0.62, 1.45), size=(0.56, 0.78))
 
 REMOVABLE = "Removable"
+#: Where the room stands: the window (in the x = -2 wall) faces geographic south.
+PLACE = dict(latitude=52.0, longitude=5.0, north=-90.0)
 
 
 def _walls(coll):
@@ -214,6 +222,8 @@ def build(path=None, resolution=1024):
     world["lightfade_spectrum"] = "daylight-glass"
     world["lightfade_hours_per_day"] = 10.0
     world["lightfade_uv_filter"] = False
+    # The place and climate (clear sky): daylight over the year replaces sun and sky above.
+    scene["lightfade_place"] = dict(PLACE)
 
     cam = C.add_camera("Camera", (1.30, -1.50, 1.35), (-0.70, 1.20, 0.60), lens=22.0)
     detail = C.add_camera("Camera.Dresser", (0.35, 0.05, 1.55), (-0.85, 1.70, 0.80), lens=30.0)

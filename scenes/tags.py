@@ -36,10 +36,15 @@ def apply_tags(scene):
       light that belongs to the room's history is tagged (the room's sky through the
       window is tagged daylight-glass, 10 h a day, so it counts).
 
+    - A scene with ``scene["lightfade_place"]`` (latitude, longitude, north, optional
+      weather) gets it through ``api.set_daylight``: daylight becomes one annual bake, and
+      the sun lamp and sky standing for daylight are muted in the exposure bake.
+
     Returns
     -------
     dict
-        ``materials`` {name: {recipe, blue_wool}} and ``emitters`` {name: schedule or None}.
+        ``materials`` {name: {recipe, blue_wool}}, ``emitters`` {name: schedule or None}
+        and ``daylight`` (the place, or None).
     """
     from lightfade_addon.blender.properties import RECIPE_IDS, SPECTRUM_IDS
 
@@ -71,6 +76,14 @@ def apply_tags(scene):
             obj.lightfade_emitter.enabled = False
     if scene.world is not None:
         out["emitters"]["World"] = _schedule_from_tags(scene.world.lightfade, scene.world, spectrum_enum)
+    out["daylight"] = None
+    if "lightfade_place" in scene:
+        from lightfade_addon import api
+
+        place = {k: (float(v) if k != "weather" else v)
+                 for k, v in scene["lightfade_place"].to_dict().items()}
+        api.set_daylight(scene, **place)
+        out["daylight"] = place
     return out
 
 

@@ -8,17 +8,23 @@ import bpy
 
 from . import cache, cli_command, handlers, panels, properties
 from .bake import records as bake_records
+from .daylight import operators as daylight_operators
+from .daylight import panel as daylight_panel
+from .daylight import settings as daylight_settings
 from .operators import CLASSES as _OPERATOR_CLASSES
 
 classes = (
     *properties.CLASSES,
     *bake_records.CLASSES,
+    *daylight_settings.CLASSES,
     *_OPERATOR_CLASSES,
+    *daylight_operators.CLASSES,
     *panels.CLASSES,
+    *daylight_panel.CLASSES,
 )
 
 #: Every ``(ID type, attribute, property group)`` LightFade attaches, in order.
-pointers = (*properties.POINTERS, *bake_records.POINTERS)
+pointers = (*properties.POINTERS, *bake_records.POINTERS, *daylight_settings.POINTERS)
 
 
 def register():

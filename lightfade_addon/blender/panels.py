@@ -8,6 +8,7 @@ from .apply import aged_copies
 from .copies import original
 from .vocabulary import RECIPE_IDS
 from .source import material_plan
+from .bake.daylight import stands_for_daylight
 from .bake.panel import draw_bake_panel
 from .stats import annual_dose, emitter_schedule, image_max
 from .status import copy_status
@@ -94,7 +95,9 @@ class VIEW3D_PT_lightfade_bake(LightFadeSidebarMixin, bpy.types.Panel):
         box.label(text=f"{obj.name}: exposure maps (UV \"{obj.lightfade.uv_map}\")")
         for item in obj.lightfade.exposure_maps:
             schedule = emitter_schedule(context.scene, item.emitter, item.emitter_kind)
-            _draw_dose(box, item.emitter, image_max(item.image), schedule)
+            label = ("Daylight (lx: year-round mean)" if item.emitter_kind == "DAYLIGHT"
+                     else item.emitter)
+            _draw_dose(box, label, image_max(item.image), schedule)
 
 
 class VIEW3D_PT_lightfade_emitter(LightFadeSidebarMixin, bpy.types.Panel):
@@ -112,6 +115,9 @@ class VIEW3D_PT_lightfade_emitter(LightFadeSidebarMixin, bpy.types.Panel):
         obj = context.object
         if obj.type == "LIGHT":
             schedule = obj.data.lightfade
+            if stands_for_daylight(context.scene, schedule, obj.data.type):
+                layout.label(text="Annual daylight replaces this sun in the exposure bake "
+                             "(muted there; it still lights renders)", icon="HIDE_ON")
         else:
             schedule = obj.lightfade_emitter
             layout.label(text="Used if the mesh has an emissive material", icon="INFO")
@@ -132,6 +138,9 @@ class VIEW3D_PT_lightfade_world(LightFadeSidebarMixin, bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         schedule = context.scene.world.lightfade
+        if schedule.spectrum != "AUTO" and stands_for_daylight(context.scene, schedule, "WORLD"):
+            layout.label(text="Annual daylight replaces this sky in the exposure bake",
+                         icon="HIDE_ON")
         _draw_schedule(layout, schedule)
         _draw_lit_objects(layout.box(), context.scene, "World", schedule)
 

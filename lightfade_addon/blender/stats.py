@@ -39,7 +39,10 @@ def annual_dose(max_lux, schedule):
 
 
 def emitter_schedule(scene, name, kind):
-    """The :class:`LIGHTFADE_PG_schedule` of the emitter a map was baked for, or None."""
+    """The :class:`LIGHTFADE_PG_schedule` of the emitter a map was baked for, or None
+    (annual daylight: ``Scene.lightfade_daylight``, 24 h × 365 d of its mean lux)."""
+    if kind == "DAYLIGHT":
+        return scene.lightfade_daylight
     if kind == "WORLD":
         return scene.world.lightfade if scene.world is not None else None
     obj = scene.objects.get(name)

@@ -29,6 +29,7 @@ AUTO_SPECTRUM = {
     "SUN": "DAYLIGHT_GLASS",
     "WORLD": "DAYLIGHT_GLASS",
     "EMISSIVE": "DAYLIGHT_GLASS",
+    "DAYLIGHT": "DAYLIGHT_GLASS",
     "POINT": "LED",
     "SPOT": "LED",
     "AREA": "LED",
@@ -51,6 +52,7 @@ EMITTER_KIND_ITEMS = (
     ("AREA", "Area", "An area lamp"),
     ("WORLD", "World", "The world background (sky light)"),
     ("EMISSIVE", "Emissive Mesh", "A mesh with an emissive material"),
+    ("DAYLIGHT", "Annual Daylight", "The sun over the year and the sky for the scene's place"),
 )
 
 

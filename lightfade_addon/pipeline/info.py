@@ -13,8 +13,17 @@ import bpy
 from .. import api
 from ..blender import stats
 from ..blender.apply import aged_copies
-from ..blender.bake import StaleExposureError, find_emitters, find_groups, maps_lit_by
+from ..blender.bake import (
+    LightFadeBakeError,
+    StaleExposureError,
+    find_emitters,
+    find_groups,
+    maps_lit_by,
+)
+from ..blender.bake import daylight as _daylight_bake
 from ..blender.bake.maps import map_key
+from ..blender.daylight import place as _place
+from ..blender.daylight.doses import material_doses
 from ..blender.targets import targets
 
 # ------------------------------------------------------------------------------ queries
@@ -111,6 +120,33 @@ def doses(scene):
     return entries
 
 
+def daylight(scene):
+    """The scene's place and weather, and whether daylight is one annual bake (None:
+    no place set)."""
+    source = _place.place_source(scene)
+    if source is None:
+        return None
+    lat, lon, north, where = source
+    props = scene.lightfade_daylight
+    return {"latitude": lat, "longitude": lon, "north": north, "from": where,
+            "weather": _place.weather_path(scene), "annual": _place.daylight_active(scene),
+            "spectrum": props.spectrum.lower().replace("_", "-"), "uv_filter": props.uv_filter,
+            "muted_lamps": _daylight_bake.replaced_lamps(scene)}
+
+
+def material_annual_doses(scene):
+    """Per object, material and light group: the annual dose (lux·h per year) over the
+    material's texels, max and mean."""
+    entries = []
+    for obj in target_objects(scene):
+        try:
+            rows = material_doses(scene, obj)
+        except (LightFadeBakeError, StaleExposureError):
+            continue
+        entries.extend({"object": obj.name, **row} for row in rows)
+    return entries
+
+
 def stale(scene):
     """What no longer matches the scene: missing maps, maps of gone emitters, aged
     materials whose exposure, schedule or recipe changed since Age."""
@@ -133,6 +169,9 @@ def stale(scene):
                              "emitters that are gone or excluded from aging (ignored)")
             elif isinstance(key, str):
                 lines.append(key)
+            elif _daylight_bake.sky_changed(scene, m.image):
+                lines.append(f"Object '{obj.name}': the map for '{m.name}' was baked for "
+                             "another place, north or weather (bake again)")
     for copy in aged_copies(scene):
         props = copy.lightfade
         if not props.source.lightfade.enabled:
@@ -148,7 +187,9 @@ def stale(scene):
 SECTIONS = (
     ("would_age", would_age),
     ("light_groups", light_groups),
+    ("daylight", daylight),
     ("doses", doses),
+    ("material_doses", material_annual_doses),
     ("stale", stale),
 )
 
@@ -186,6 +227,20 @@ def as_text(report):
                 else f"{e['max_annual_Mlxh']:.3g} Mlx·h/year")
         out.append(f"    {e['object']} <- {e['group']}: brightest texel "
                    f"{e['max_lux']:.4g} lux, {dose}")
+    day = report.get("daylight")
+    if day is None:
+        out.append("  daylight: no place (sun lamps with their hours per day)")
+    else:
+        weather = day["weather"] or "clear sky"
+        mode = "one annual bake" if day["annual"] else "annual daylight off"
+        muted = f", muted: {', '.join(day['muted_lamps'])}" if day["muted_lamps"] else ""
+        out.append(f"  daylight: {day['latitude']:.2f}°, {day['longitude']:.2f}°, north "
+                   f"{day['north']:.0f}° (from {day['from']}), {weather}; {mode}{muted}")
+    rows = report.get("material_doses") or []
+    out.append("  annual dose per material:" if rows else "  annual dose per material: none")
+    for e in rows:
+        out.append(f"    {e['object']} / {e['material']} <- {e['group']}: max "
+                   f"{e['max'] / 1e6:.3g} Mlx·h/year, mean {e['mean'] / 1e6:.3g} Mlx·h/year")
     out.append("  stale:" if report["stale"] else "  stale: nothing")
     out.extend(f"    {line}" for line in report["stale"])
     return "\n".join(out)

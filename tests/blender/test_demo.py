@@ -114,6 +114,14 @@ def test_tags_become_lightfade_settings_on_a_small_room(blender):
     lamp = bpy.data.lights["Lamp"].lightfade
     assert lamp.enabled and lamp.spectrum == "INCANDESCENT"
     assert bpy.context.scene.world.lightfade.hours_per_day == 10.0
+    # the room stands at 52° N, its window (x = -2 wall) facing south: annual daylight
+    assert tags["daylight"] == room.PLACE
+    day = bpy.context.scene.lightfade_daylight
+    assert (day.latitude, day.north) == (52.0, -90.0) and day.enabled
+    from lightfade_addon.blender.bake import find_groups
+
+    bpy.context.view_layer.update()
+    assert {g.name for g in find_groups(bpy.context.scene)} == {"Lamp", "Daylight"}
 
 
 def test_the_summary_counts_every_frame_rendered():

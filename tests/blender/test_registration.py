@@ -122,7 +122,7 @@ class TestOneVocabulary:
         auto = {kind: resolve_spectrum(light.lightfade, kind) for kind in kinds}
         assert auto == {"SUN": "daylight-glass", "WORLD": "daylight-glass",
                         "EMISSIVE": "daylight-glass", "POINT": "led", "SPOT": "led",
-                        "AREA": "led"}
+                        "AREA": "led", "DAYLIGHT": "daylight-glass"}
         for name in LIGHTS:
             light.lightfade.spectrum = name.upper().replace("-", "_")
             assert {resolve_spectrum(light.lightfade, kind) for kind in kinds} == {name}

@@ -20,6 +20,7 @@ point, power P, distance r     P / (4 pi² r²) (±0.02 %)        683 P / (4 pi 
 spot, power P (on axis)        P / (4 pi² r²)  as a point      683 P / (4 pi r²)
 area, power P (small, axis)    P / (pi² r²)                    683 P / (pi r²)
 world, background strength W   W (open hemisphere)             683 pi W
+annual sky, radiance L lx·h/sr  L / (683 × 8760) (a pixel)      pi L / 8760 (mean lux)
 emission strength L (plane)    L (infinite emitting plane)     683 pi L
 ============================  ==============================  =======================
 """
@@ -39,6 +40,8 @@ LUX_PER_BAKE_UNIT = LUX_PER_WATT * math.pi
 LUMINANCE_WEIGHTS = np.array([0.2126, 0.7152, 0.0722])
 
 WORLD_EMITTER = "World"
+#: The daylight group's one emitter when the scene has a place (:mod:`.daylight`).
+DAYLIGHT_EMITTER = "Daylight"
 TEMP_PREFIX = "LF_TMP_"
 EXPOSURE_PREFIX = "LF_Exposure_"
 #: Name of the UV map LightFade makes when a mesh's own UVs overlap or leave 0-1.

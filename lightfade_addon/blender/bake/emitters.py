@@ -11,6 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..vocabulary import resolve_spectrum
+from . import daylight as _daylight
 from .common import WORLD_EMITTER
 
 
@@ -19,7 +20,7 @@ class Emitter:
     """A source of light: a light object, ``"World"``, or an emissive mesh."""
 
     name: str
-    kind: str  # SUN POINT SPOT AREA WORLD EMISSIVE
+    kind: str  # SUN POINT SPOT AREA WORLD EMISSIVE DAYLIGHT
     obj: object = None  # bpy.types.Object, None for the world
 
 
@@ -93,7 +94,8 @@ def find_emitters(scene, view_layer=None):
 
     Lamps with non-zero power, visible to render and with ``Light.lightfade.enabled``;
     meshes with an emissive material and ``Object.lightfade_emitter.enabled``; the world
-    when :func:`world_counts`.
+    when :func:`world_counts`.  With annual daylight (:mod:`.daylight`), the sun lamps and
+    the world standing for daylight give way to one ``"Daylight"`` emitter.
 
     Returns
     -------
@@ -106,17 +108,25 @@ def find_emitters(scene, view_layer=None):
             continue
         if obj.type == "LIGHT":
             light = obj.data
-            if light.lightfade.enabled and light.energy > 0.0 and max(light.color) > 0.0:
+            if light.lightfade.enabled and light.energy > 0.0 and max(light.color) > 0.0 \
+                    and not _daylight.stands_for_daylight(scene, light.lightfade, light.type):
                 emitters.append(Emitter(obj.name, light.type, obj))
         elif obj.type == "MESH" and obj.lightfade_emitter.enabled and _is_emissive_mesh(obj):
             emitters.append(Emitter(obj.name, "EMISSIVE", obj))
-    if world_counts(scene.world):
+    if world_counts(scene.world) and not _daylight.stands_for_daylight(
+            scene, scene.world.lightfade, "WORLD"):
         emitters.append(Emitter(WORLD_EMITTER, "WORLD", None))
+    daylight = _daylight.daylight_emitter(scene)
+    if daylight is not None:
+        emitters.append(Emitter(*daylight, None))
     return emitters
 
 
 def schedule_of(scene, name, kind):
-    """The ``LIGHTFADE_PG_schedule`` of an emitter, or None if it is gone."""
+    """The ``LIGHTFADE_PG_schedule`` of an emitter, or None if it is gone (the daylight
+    group's: ``Scene.lightfade_daylight``, enabled while annual daylight is active)."""
+    if kind == "DAYLIGHT":
+        return scene.lightfade_daylight
     if kind == "WORLD":
         return scene.world.lightfade if scene.world is not None else None
     obj = scene.objects.get(name)
@@ -170,9 +180,12 @@ def silence_emission(state, obj):
 
 
 def isolate(state, scene, group):
-    """Let only ``group``'s emitters shine (other lamps hidden, emission off, no world)."""
+    """Let only ``group``'s emitters shine (other lamps hidden, emission off, no world; the
+    daylight group: the annual sky as the world)."""
     members = {e.name for e in group.emitters}
-    if not any(e.kind == "WORLD" for e in group.emitters):
+    if any(e.kind == "DAYLIGHT" for e in group.emitters):
+        _daylight.use_annual_world(state, scene)
+    elif not any(e.kind == "WORLD" for e in group.emitters):
         state.set(scene, "world", None)
     for obj in scene.objects:  # also what LightFade ignores (disabled) must stay dark
         if obj.name in members or obj.hide_render:

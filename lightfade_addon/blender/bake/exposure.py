@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
+from . import daylight as _daylight
 from . import denoise as _denoise
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
@@ -131,6 +132,8 @@ class ExposureBake:
         for msg in warnings:
             self._warn(msg)
         emitters = find_emitters(scene, layer)
+        if any(e.kind == "DAYLIGHT" for e in emitters) and _daylight.problem(scene):
+            problems.append(_daylight.problem(scene))
         if not emitters:
             problems.append(
                 "No emitters in the scene: add a lamp or an emissive mesh, or give the world a "
@@ -250,6 +253,8 @@ class ExposureBake:
                     node.image = image
             inner.select_only(step.objects)
             check_bake_result(self.state.bake(), step.objects, step.group)
+            for image in images.values():
+                _daylight.stamp(image, self.scene, step.group)
         for obj in step.objects:
             self._finish_map(obj, images[obj.name])
             self.maps.setdefault(obj.name, {})[step.group.name] = (step.group, images[obj.name])

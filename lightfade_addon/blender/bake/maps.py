@@ -14,6 +14,7 @@ import numpy as np
 from ...core.aging import Light
 from ..pixels import resample
 from ..vocabulary import resolve_spectrum
+from . import daylight as _daylight
 from .common import EXPOSURE_PREFIX, LightFadeBakeError, exposure_image_name
 from .emitters import schedule_key, schedule_of
 from .uvmaps import remove_made_uv
@@ -98,13 +99,26 @@ def members(item):
     return [(item.emitter, item.emitter_kind)]
 
 
+def counting_schedule(scene, name, kind):
+    """The schedule an emitter's light counts with now, or None: gone, excluded, a sun
+    lamp or world that annual daylight replaces, or the daylight group without a place."""
+    schedule = schedule_of(scene, name, kind)
+    if schedule is None or not schedule.enabled:
+        return None
+    if kind == "DAYLIGHT":
+        return schedule if _daylight.daylight_active(scene) else None
+    if _daylight.stands_for_daylight(scene, schedule, kind):
+        return None
+    return schedule
+
+
 def map_key(scene, obj, item):
     """The map's current ``(spectrum, uv filter, h/day, d/yr)`` key, or None when its
     emitters are gone or excluded.  Raises :class:`StaleExposureError` when they now differ."""
     keys = set()
     for name, kind in members(item):
-        schedule = schedule_of(scene, name, kind)
-        keys.add(None if schedule is None or not schedule.enabled else schedule_key(schedule, kind))
+        schedule = counting_schedule(scene, name, kind)
+        keys.add(None if schedule is None else schedule_key(schedule, kind))
     if keys == {None}:
         return None
     if len(keys) > 1:
@@ -179,6 +193,8 @@ def exposure_signature(scene, obj):
             state = ("gone" if schedule is None else
                      f"{schedule.enabled}:{resolve_spectrum(schedule, kind)}:{schedule.uv_filter}:"
                      f"{schedule.hours_per_day:.6g}:{schedule.days_per_year:.6g}")
+            if schedule is not None and counting_schedule(scene, name, kind) is None:
+                state += ":not counted"
             parts.append(f"{name}:{kind}:{state}")
     return hashlib.sha1("\n".join(parts).encode()).hexdigest()
 

@@ -67,7 +67,12 @@ def _draw_groups(layout, scene, emitters):
         names = ", ".join(group.member_names)
         row = box.row()
         row.label(text=names)
-        row.label(text=f"{spectrum}{' +UV filter' if uv_filter else ''}, {hours:g} h × {days:g} d")
+        if any(e.kind == "DAYLIGHT" for e in group.emitters):
+            row.label(text=f"{spectrum}{' +UV filter' if uv_filter else ''}, the year's sun "
+                      "and sky: one annual bake")
+        else:
+            row.label(text=f"{spectrum}{' +UV filter' if uv_filter else ''}, "
+                      f"{hours:g} h × {days:g} d")
     world = scene.world
     if world is not None and world_counts(world):
         box.label(text=f"World: {world_lux(world):,.0f} lx on open ground", icon="WORLD")
