@@ -73,7 +73,8 @@ def measure(texture=512, map_size=128, samples=16, old=False):
                              progress=lambda f, m: None)["maps"][rug.name]
     finally:
         targets.expose_surface = real
-    sun = next(image for name, image in maps.items() if name.startswith("Sun"))
+    sun = next(image for name, image in maps.items()
+               if name.startswith(("Sun", "Daylight")))      # annual daylight at a place
     n = sun.size[0]
     lux = np.empty(n * n * 4, dtype=np.float32)
     sun.pixels.foreach_get(lux)

@@ -13,6 +13,7 @@ import bpy
 from . import agingdata, runtime
 from .albedo import ALBEDO_PREFIX
 from .copies import copies_of, remove_copy
+from .daylight.view import clear_view
 from .exposure import remove_exposure
 from .grids import purge
 
@@ -43,6 +44,7 @@ def reset_scene(scene, exposure=False):
               or c.lightfade.aged_object is None]
     for copy in copies:
         remove_aged(copy)
+    clear_view(scene)                            # dose views show what Reset removes
     if exposure:
         remove_exposure(scene, [o for o in scene.objects if o.type == "MESH"])
     purge(scene, {c.lightfade.grid_key for c in copies_of()})

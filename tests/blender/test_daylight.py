@@ -499,6 +499,15 @@ class TestOperators:
         assert bpy.ops.lightfade.dose_view_clear() == {"FINISHED"}
         assert "LF_DoseView.Floor" not in bpy.data.objects and not floor.hide_get()
 
+    def test_reset_clears_dose_views(self, floor_scene):
+        scene = bpy.context.scene
+        floor = floor_scene["floor"]
+        api.bake(scene, objects=[floor])
+        bpy.context.view_layer.objects.active = floor
+        assert bpy.ops.lightfade.dose_view(mode="DOSE") == {"FINISHED"}
+        assert bpy.ops.lightfade.reset() == {"FINISHED"}
+        assert "LF_DoseView.Floor" not in bpy.data.objects and not floor.hide_get()
+
     def test_dose_view_without_maps_is_refused_with_the_objects_name(self, floor_scene):
         bpy.context.view_layer.objects.active = floor_scene["floor"]
         with pytest.raises(RuntimeError, match="Floor"):
