@@ -81,19 +81,24 @@ def test_tags_became_lightfade_settings(quick_room):
 
 
 @pytest.mark.slow
-def test_saved_blend_keeps_the_aged_pixels(quick_room):
+def test_saved_blend_keeps_the_aging(quick_room):
+    """The saved room carries each aged material's data images (packed) and group, and
+    the years it was saved at."""
     out, _ = quick_room
     bpy.ops.wm.open_mainfile(filepath=str(out / "room.blend"))
-    aged = [im for im in bpy.data.images if im.name.startswith("LF_Aged_")]
-    assert len(aged) == 5
-    for im in aged:
-        assert im.packed_file is not None, im.name
-        assert tuple(im.size) != (0, 0), im.name
+    copies = [m for m in bpy.data.materials if m.lightfade.source is not None]
+    assert len(copies) == 5
+    for copy in copies:
+        props = copy.lightfade
+        for im in (props.key_image, props.rate_image, props.table_image):
+            assert im is not None and im.packed_file is not None, copy.name
+            assert tuple(im.size) != (0, 0), im.name
+        assert "LightFade Aging" in copy.node_tree.nodes or any(
+            n.type == "GROUP" and "LightFade Aging" in n.node_tree.nodes
+            for n in copy.node_tree.nodes if n.node_tree is not None), copy.name
     rug = bpy.data.materials["Rug_Wool"]
-    copies = [m for m in bpy.data.materials if m.lightfade.source == rug]
-    assert len(copies) == 1 and copies[0].lightfade.aged_image is not None
-    assert copies[0].lightfade.aged_image.packed_file is not None
-    assert bpy.context.scene.lightfade.years == pytest.approx(25.0)
+    assert len([m for m in copies if m.lightfade.source == rug]) == 1
+    assert bpy.context.scene["lightfade_years"] == pytest.approx(25.0)
 
 
 def test_tags_become_lightfade_settings_on_a_small_room(blender):
