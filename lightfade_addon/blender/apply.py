@@ -71,14 +71,20 @@ def find_nodes(tree, name, depth=0):
     return found
 
 
-def _extension(copy):
-    """The wrap mode of the user's image on the direct path (keys follow it)."""
+def _user_image_node(copy):
+    """The user's Image Texture node of the direct path (None on the other paths)."""
     props = copy.lightfade
     if props.path == "DIRECT" and props.albedo is not None:
-        for tree, node in ((t, n) for t, n in _image_nodes(copy.node_tree)
-                           if n.image == props.albedo):
-            return node.extension if node.extension in ("REPEAT", "EXTEND", "MIRROR") \
-                else "EXTEND"
+        return next((n for _t, n in _image_nodes(copy.node_tree) if n.image == props.albedo),
+                    None)
+    return None
+
+
+def _extension(copy):
+    """The wrap mode of the user's image on the direct path (keys follow it)."""
+    node = _user_image_node(copy)
+    if node is not None and node.extension in ("REPEAT", "EXTEND", "MIRROR"):
+        return node.extension
     return "EXTEND"
 
 
@@ -194,7 +200,8 @@ def apply_copy(copy, years):
             tree.links.new(uv.outputs["UV"], applied.inputs["Vector"])
         tree.nodes[APPLIED_NAME + " UV"].uv_map = props.uv_map
         applied.image = image
-        applied.interpolation = "Linear"
+        user = _user_image_node(copy)                # sampled as the user's image is
+        applied.interpolation = user.interpolation if user is not None else "Linear"
         applied.extension = _extension(copy)
         tree.links.new(applied.outputs["Color"], socket)
     return image
