@@ -17,14 +17,13 @@ import numpy as np
 from ...core.aging import TextureAger
 from ...core.grid import GridSettings
 from ...core.noticeable import JND_DELTA_E00, years_to_noticeable
-from ...core.recipes import get_recipe
 from ..bake.common import LightFadeBakeError
 from ..bake.maps import exposure_signature, lights_and_exposure, map_key, read_lux
 from ..bake.raster import rasterise
 from ..bake.uvmaps import evaluated_mesh, triangle_uvs
 from ..pixels import read_linear, read_rgba, resample
+from ..runtime import material_recipe
 from ..source import material_plan
-from ..vocabulary import RECIPE_IDS
 
 #: Years the noticeable-fade view looks ahead: slower texels read "> this".
 HORIZON_YEARS = 1000.0
@@ -63,15 +62,6 @@ def annual_dose(scene, obj):
 def total_dose(scene, obj):
     """(H, W) float32: the sum of :func:`annual_dose` over the light groups."""
     return sum(annual_dose(scene, obj).values())
-
-
-def material_recipe(material):
-    """The core recipe of a material's LightFade settings (recipe, Blue Wool or β)."""
-    props = material.lightfade
-    recipe = get_recipe(RECIPE_IDS[props.recipe])
-    if props.sensitivity_mode == "BETA":
-        return recipe.with_beta(props.beta * 1e-6)
-    return recipe.with_blue_wool(props.blue_wool)
 
 
 def texel_albedo(scene, obj, material, shape):
