@@ -31,9 +31,9 @@ from .vocabulary import RECIPE_IDS, SPECTRUM_IDS
 MIN_PREPARED_YEARS = 100.0
 #: The grid every preparation uses (the tests of bookkeeping patch in a coarser one).
 GRID_SETTINGS = GridSettings()
-#: A copy's aging table holds at most one entry per two texels of its texture, within
-#: these bounds: its data images (keys, rates, table) then weigh less than the float
-#: aged image each copy carried before (benchmarks/footprint.py).
+#: A copy's aging table holds at most one entry per texel of its texture, within these
+#: bounds: its data images (keys, rates, table) then weigh about what the float aged
+#: image each copy carried before did (benchmarks/footprint.py).
 TABLE_ENTRIES = (1 << 18, 1 << 22)
 
 
@@ -145,7 +145,7 @@ def prepare(scene, copy, shape, progress=None):
         ager = TextureAger(rgba[..., :3], recipe, lights, exposure, max_years=props.max_years,
                            encoding="linear", settings=GRID_SETTINGS, progress=progress,
                            store=SceneGridStore(scene), prior=prior, max_rate=max_rate,
-                           table_entries=min(max(rgba.shape[0] * rgba.shape[1] // 2,
+                           table_entries=min(max(rgba.shape[0] * rgba.shape[1],
                                                  TABLE_ENTRIES[0]), TABLE_ENTRIES[1]))
     except ValueError as err:
         raise AgingError(f"Material '{props.source.name}' on '{obj.name}': {err}") from None

@@ -55,10 +55,11 @@ __all__ = ["AgingTable", "Texels", "TABLE_TEXELS", "TABLE_NODES_PER_ROW", "evalu
            "key_pixels", "mix_slots", "simplex_slots", "table_layout", "table_pixels",
            "texel_positions"]
 
-#: Most table entries (key × slot × dose node) by default: 96 MB in half precision, as
-#: the previous evaluator's table (the command line; Blender sizes a copy's table by its
-#: texture, :func:`max_keys`).
-TABLE_TEXELS = 1 << 23
+#: Most table entries (key × slot × dose node) by default (the command line): 258,111
+#: keys of one spectrum and 65 dose nodes, 192 MB as half-precision node pairs (half as
+#: many measured max ΔE00 1.89 instead of 0.48 on a 2048² landscape against the exact
+#: path: docs/grid_photos.md). Blender sizes a copy's table by its texture.
+TABLE_TEXELS = 1 << 24
 #: Dose-node runs per row of the table image (a run of T nodes never straddles rows).
 TABLE_NODES_PER_ROW = 63
 #: Texels evaluated per block (bounds the temporaries) and threads (numpy releases the GIL).
