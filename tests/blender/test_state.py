@@ -408,3 +408,15 @@ def test_fresh_process_renders_what_the_viewport_shows(fresh_process, early_jobs
     proc = early_jobs.result(FRESH_JOB, None)
     assert proc.returncode == 0, proc.stderr[-3000:]
     np.testing.assert_allclose(np.load(out), here, atol=1e-5)
+
+
+def test_info_says_when_the_years_pass_the_prepared_range(carpet):
+    from lightfade_addon import api
+    from lightfade_addon.pipeline.info import stale
+
+    scene = bpy.context.scene
+    api.age_scene(scene, years=5)
+    assert not any("prepared for" in line for line in stale(scene))
+    scene.lightfade.years = 150.0                         # the slider: nothing prepared
+    (line,) = [x for x in stale(scene) if "prepared for" in x]
+    assert "100 years" in line and "150" in line
