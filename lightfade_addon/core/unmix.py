@@ -69,7 +69,7 @@ def pseudo_inverse(J):
     return np.linalg.solve(JtJ, np.swapaxes(J, 1, 2))
 
 
-def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
+def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0):
     """Least squares ``|F(c) - target|^2`` per row over the box [0, 1], in place.
 
     Projected Gauss–Newton with an active set and a backtracking line search:
@@ -89,6 +89,10 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
         Start, in [0, 1]; overwritten with the solution.
     target : ndarray, shape (N, K)
     iterations : int
+    jac : callable, jac(x, rows) -> (F(x, rows), dF/dx (n, K, Cu)), optional
+        ``F`` with its Jacobian, instead of one-sided differences of step ``h``.
+    tol : float
+        Rows whose residual norm is at most ``tol`` are solved and leave the active set.
 
     Returns
     -------
@@ -104,9 +108,12 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
         def Fa(x, rows=None, active=active):
             return F(x, active if rows is None else active[rows])
 
-        F_c = Fa(ca)
+        if jac is None:
+            F_c = Fa(ca)
+            J = jacobian(Fa, ca, F_c, h)
+        else:
+            F_c, J = jac(ca, active)
         r = F_c - ta                                            # (n, K) residual
-        J = jacobian(Fa, ca, F_c, h)
         delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
         held = ((ca <= 0.0) & (delta > 0)) | ((ca >= 1.0) & (delta < 0))
         if held.any():
@@ -114,7 +121,8 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
             delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
             delta[held] = 0.0
         cost = np.sum(r * r, axis=1)
-        moved = np.zeros(active.size, dtype=bool)
+        done = cost <= tol * tol
+        moved = done.copy()                                     # no line search for these
         for alpha in (1.0, 0.5, 0.25, 0.125):
             todo = np.flatnonzero(~moved)
             if todo.size == 0:
@@ -124,7 +132,7 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
             ca[todo[better]] = trial[better]
             moved[todo[better]] = True
         c[active] = ca
-        active = active[moved]
+        active = active[moved & ~done]
     return c
 
 
