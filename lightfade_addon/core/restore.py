@@ -30,9 +30,10 @@ aging it again by the same light and years gives the seen image back.
 What is lost
 ------------
 A texel is *lost* when the seen colour no longer tells its original apart: originals
-that differ visibly before the light (ΔE00 :data:`LOST_APART` = 2) end up within the
-seen image's own precision of each other after it, so that the image cannot say which
-of them it shows. Where the inversion is merely hard (many iterations, a start far
+that differ visibly before the light (more than ΔE00 :data:`LOST_APART` = 2 from the
+restored one) end up within the seen image's own precision of it after the light, so
+that the image cannot say which of them it shows and the restoration is expected to
+be off by more than ΔE00 2. Where the inversion is merely hard (many iterations, a start far
 from the answer) but the forward map keeps originals apart, nothing is lost.
 
 The seen image holds each colour to :data:`PRECISION` (half a step of 8-bit encoded
@@ -50,8 +51,8 @@ of the forward map at the restored original (:func:`_uncertainty`):
   box ``δ`` (ΔE00 as a local metric, ``ΔE00² ≈ dLabᵀ G(Lab) dLab`` with ``G`` at
   the original from CIEDE2000 itself, :func:`_metric`): how far from the truth a
   restoration lands on average from the seen image's rounding alone;
-* ``lost = spread > LOST_APART / 2``: the originals the seen colour stands for span
-  more than ΔE00 2.
+* ``lost = spread > LOST_APART``: the originals the seen colour stands for lie, RMS,
+  more than ΔE00 2 from the restored one.
 
 Not flagged: a seen colour on the edge of [0, 1] may be an aged colour the gamut rule
 (:mod:`.gamut`) pulled in, and the restoration then stays on the near side of the
@@ -83,8 +84,8 @@ from .unmix import bounded_gauss_newton, get_unmixer, jacobian
 
 __all__ = ["LOST_APART", "PRECISION", "Prior", "Restored", "restore"]
 
-#: ΔE00 between originals the seen image must still tell apart: a texel whose seen
-#: colour stands for originals spread over more than this (RMS radius half of it) is lost.
+#: ΔE00 from the restored original within which the seen image must still pin the
+#: truth: a texel whose seen colour stands for originals spread (RMS) further is lost.
 LOST_APART = 2.0
 #: Precision of a seen colour, encoded sRGB per channel: half a step of 8 bits.
 PRECISION = 0.5 / 255
@@ -134,7 +135,7 @@ class Restored:
         The estimated new texture, in [0, 1] in the input's encoding.
     lost : ndarray of bool, shape of the input without the channel axis
         Texels whose original the light made indistinguishable: ``spread >``
-        :data:`LOST_APART` / 2 (the module docstring).
+        :data:`LOST_APART` (the module docstring).
     spread : ndarray, shape of ``lost``
         Per texel, the RMS ΔE00 between the restored original and the originals the
         seen colour cannot tell from it (0 where no light fell).
@@ -561,7 +562,7 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
         say(0.3 + 0.7 * min(b0 + _BLOCK, lit.size) / lit.size,
             f"inverting the fade of {lit.size} colours")
     spread = spread_g[group].reshape(spread.shape)
-    lost = spread > LOST_APART / 2
+    lost = spread > LOST_APART
     XYZ = XYZ_seen / np.exp(log_ratio)[group]
     image = encode_in_gamut(XYZ_to_linear_srgb(XYZ), encoding).astype(np.float32)
     say(1.0, f"restored; {np.count_nonzero(lost)} pixels lost")
