@@ -80,7 +80,7 @@ from .lights import Light, dose_rates, spectra_keys
 from .recipes import get_recipe
 from .spectra import WAVELENGTHS, light_spectrum
 from .texels import UNMIX_REFINE, _codes, _decode, _distinct
-from .unmix import bounded_gauss_newton, get_unmixer, jacobian
+from .unmix import bounded_gauss_newton, get_unmixer, pseudo_inverse
 
 __all__ = ["LOST_APART", "PRECISION", "Prior", "Restored", "restore"]
 
@@ -103,6 +103,8 @@ _BLOCK = 1 << 14
 #: Step (ΔE*ab, and in log XYZ) of the finite differences of the lost test.
 _H_LAB = 0.05
 _H_LOG = 1e-4
+#: Step in concentration of the unmixer's slope (as :func:`.unmix.jacobian`).
+_H_C = 1e-5
 
 
 @dataclass(frozen=True)
@@ -370,7 +372,8 @@ def _dLab_dencoded(lin):
 
 
 def _uncertainty(aged, rows, c0, XYZ_seen, unmixer, precision):
-    """Expected (RMS) ΔE00 error (n,) of restored originals (see the module docstring).
+    """Expected (RMS) ΔE00 error (n,) of restored originals (see the module docstring),
+    and their change ``log(XYZ_aged / XYZ_initial)`` (n, 3).
 
     Parameters
     ----------
@@ -384,15 +387,25 @@ def _uncertainty(aged, rows, c0, XYZ_seen, unmixer, precision):
     precision : float
         Half a step of the seen image's values, in encoded sRGB.
     """
-    r0 = aged.log_ratio(c0, rows)                                         # (n, 3)
+    n, Cu = c0.shape
+    c0 = np.clip(c0, 0.0, 1.0)
+    # the unexposed colour at c0 and one step along each concentration (inside [0, 1]),
+    # in one Kubelka–Munk call: the unmixer's slope and d log XYZ / dc from the same steps
+    h = np.where(c0 + _H_C <= 1.0, _H_C, -_H_C)                            # (n, Cu)
+    steps = np.concatenate([c0] + [c0 + np.eye(Cu)[k] * h[:, k:k + 1] for k in range(Cu)])
+    X = np.maximum(unmixer.XYZ(steps), XYZ_FLOOR).reshape(Cu + 1, n, 3)
+    log_X, Lab_X = np.log(X), XYZ_to_Lab(X)
+    log_aged, dlog_aged = aged.with_jacobian(c0, rows) if Cu else (aged(c0, rows), None)
+    r0 = log_aged - log_X[0]                                              # (n, 3)
     XYZ1 = np.maximum(XYZ_seen, XYZ_FLOOR)              # (black has no log derivative)
     XYZ0 = XYZ1 / np.exp(r0)
     D0, D1 = _dLab_dlogXYZ(XYZ0), _dLab_dlogXYZ(XYZ1)
     E0 = np.linalg.inv(D0)                                                # d log XYZ / d Lab
     step = E0
-    if c0.shape[1]:
-        R = jacobian(lambda x: aged.log_ratio(x, rows), c0, r0)           # (n, 3, Cu)
-        step = E0 + R @ unmixer.slope(c0)                                 # (n, 3, 3)
+    if Cu:
+        dLab = np.stack([(Lab_X[k + 1] - Lab_X[0]) / h[:, k:k + 1] for k in range(Cu)], -1)
+        dlog_X = np.stack([(log_X[k + 1] - log_X[0]) / h[:, k:k + 1] for k in range(Cu)], -1)
+        step = E0 + (dlog_aged - dlog_X) @ pseudo_inverse(dLab)             # (n, 3, 3)
     J = D1 @ step                                                         # d Lab1 / d Lab0
     # the seen colour's rounding box, back through the inverse of J
     U, s, Vt = np.linalg.svd(J)
@@ -400,7 +413,7 @@ def _uncertainty(aged, rows, c0, XYZ_seen, unmixer, precision):
     B = np.swapaxes(Vt, 1, 2) @ (np.swapaxes(U, 1, 2) / s[:, :, None])
     B = B @ _dLab_dencoded(XYZ_to_linear_srgb(XYZ1))                      # per encoded unit
     G0 = _metric(XYZ_to_Lab(XYZ0))
-    return np.sqrt(precision ** 2 / 3.0 * np.einsum("nji,njk,nki->n", B, G0, B))
+    return np.sqrt(precision ** 2 / 3.0 * np.einsum("nji,njk,nki->n", B, G0, B)), r0
 
 
 def _solve(aged, rows, XYZ_seen, start):
@@ -557,8 +570,8 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
         rows = lit[b0:b0 + _BLOCK]
         start = starts[b0:b0 + _BLOCK]
         c0 = _invert(aged, rows, XYZ_g[rows], start, unmixer) if unmixer.Cu else start
-        log_ratio[rows] = aged.log_ratio(c0, rows)
-        spread_g[rows] = _uncertainty(aged, rows, c0, XYZ_g[rows], unmixer, precision)
+        spread_g[rows], log_ratio[rows] = _uncertainty(aged, rows, c0, XYZ_g[rows], unmixer,
+                                                       precision)
         say(0.3 + 0.7 * min(b0 + _BLOCK, lit.size) / lit.size,
             f"inverting the fade of {lit.size} colours")
     spread = spread_g[group].reshape(spread.shape)
