@@ -54,6 +54,10 @@ of the forward map at the restored original (:func:`_uncertainty`):
 * ``lost = spread > LOST_APART``: the originals the seen colour stands for lie, RMS,
   more than ΔE00 2 from the restored one.
 
+Also lost: texels that no displayable original explains (the original the inversion
+finds lies more than ΔE00 2 outside [0, 1]: a history the photograph cannot have had,
+such as far more light than it received); they keep the nearest displayable colour.
+
 Not flagged: a seen colour on the edge of [0, 1] may be an aged colour the gamut rule
 (:mod:`.gamut`) pulled in, and the restoration then stays on the near side of the
 truth; the photograph cannot tell by how much, and most such pixels (camera-clipped
@@ -73,7 +77,7 @@ from .cache import load_or_build
 from .colorimetry import (
     XYZ_to_Lab, XYZ_to_linear_srgb, delta_E_2000, linear_srgb_to_XYZ, srgb_decode, srgb_encode)
 from .gridbuild import XYZ_FLOOR
-from .gamut import encode_in_gamut, into_gamut
+from .gamut import encode_in_gamut, into_gamut, out_of_gamut
 from .grid import GridSettings
 from .lattice import grid_max_dose, simplex_interpolation
 from .lights import Light, dose_rates, spectra_keys
@@ -136,8 +140,9 @@ class Restored:
     image : ndarray, shape like the input
         The estimated new texture, in [0, 1] in the input's encoding.
     lost : ndarray of bool, shape of the input without the channel axis
-        Texels whose original the light made indistinguishable: ``spread >``
-        :data:`LOST_APART` (the module docstring).
+        Texels whose original the light made indistinguishable (``spread >``
+        :data:`LOST_APART`) or that no displayable original explains (the module
+        docstring).
     spread : ndarray, shape of ``lost``
         Per texel, the RMS ΔE00 between the restored original and the originals the
         seen colour cannot tell from it (0 where no light fell).
@@ -575,8 +580,16 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
         say(0.3 + 0.7 * min(b0 + _BLOCK, lit.size) / lit.size,
             f"inverting the fade of {lit.size} colours")
     spread = spread_g[group].reshape(spread.shape)
-    lost = spread > LOST_APART
     XYZ = XYZ_seen / np.exp(log_ratio)[group]
-    image = encode_in_gamut(XYZ_to_linear_srgb(XYZ), encoding).astype(np.float32)
+    lin = XYZ_to_linear_srgb(XYZ)
+    # no displayable original ages to the seen colour: the one it would take lies
+    # further than LOST_APART outside [0, 1] (a history the photo cannot have had)
+    outside = np.zeros(n, dtype=bool)
+    out = np.flatnonzero(out_of_gamut(lin))
+    if out.size:
+        outside[out] = delta_E_2000(XYZ_to_Lab(np.maximum(XYZ[out], 0.0)), XYZ_to_Lab(
+            linear_srgb_to_XYZ(into_gamut(lin[out])))) > LOST_APART
+    lost = (spread > LOST_APART) | outside.reshape(spread.shape)
+    image = encode_in_gamut(lin, encoding).astype(np.float32)
     say(1.0, f"restored; {np.count_nonzero(lost)} pixels lost")
     return Restored(image.reshape(rgb.shape), lost, spread)

@@ -100,6 +100,18 @@ class TestLost:
         assert back.spread.max() < 1.0
         assert delta_E_2000(lab(img), lab(back.image)).max() < 0.5
 
+    def test_a_history_the_photo_cannot_have_had_is_lost(self, image):
+        """Colours no displayable original fades to under the claimed light (far more
+        than the texture received) are lost; under a plausible history they are not."""
+        light = Light("daylight", lux=5000)
+        back = restore(image, 10.0, "printed-paper", [light], encoding="srgb",
+                       settings=COARSE)
+        assert back.lost.mean() > 0.4                        # measured: half (cyans survive)
+        assert back.spread.max() < 2.0                       # not for want of precision
+        mild = restore(image, 0.2, "printed-paper", [LIGHT], encoding="srgb",
+                       settings=COARSE)
+        assert not mild.lost.any()
+
     def test_the_spread_grows_with_the_images_precision(self):
         """A 16-bit photo pins its original 257 times tighter than an 8-bit one."""
         img = magentas()
