@@ -105,24 +105,32 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0):
             break
         ca, ta = c[active], target[active]
 
+        if jac is None:
+            F_c = F(ca, active)
+        else:
+            F_c, J = jac(ca, active)
+        r = F_c - ta                                            # (n, K) residual
+        cost = np.sum(r * r, axis=1)
+        if tol > 0:                                             # solved rows leave
+            keep = cost > tol * tol
+            if not keep.all():
+                active, ca, ta, F_c, r, cost = (a[keep] for a in (active, ca, ta, F_c, r, cost))
+                J = J[keep] if jac is not None else None
+                if active.size == 0:
+                    break
+
         def Fa(x, rows=None, active=active):
             return F(x, active if rows is None else active[rows])
 
         if jac is None:
-            F_c = Fa(ca)
             J = jacobian(Fa, ca, F_c, h)
-        else:
-            F_c, J = jac(ca, active)
-        r = F_c - ta                                            # (n, K) residual
         delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
         held = ((ca <= 0.0) & (delta > 0)) | ((ca >= 1.0) & (delta < 0))
         if held.any():
             J = np.where(held[:, None, :], 0.0, J)
             delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
             delta[held] = 0.0
-        cost = np.sum(r * r, axis=1)
-        done = cost <= tol * tol
-        moved = done.copy()                                     # no line search for these
+        moved = np.zeros(active.size, dtype=bool)
         for alpha in (1.0, 0.5, 0.25, 0.125):
             todo = np.flatnonzero(~moved)
             if todo.size == 0:
@@ -132,7 +140,7 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0):
             ca[todo[better]] = trial[better]
             moved[todo[better]] = True
         c[active] = ca
-        active = active[moved & ~done]
+        active = active[moved]
     return c
 
 
