@@ -257,32 +257,31 @@ class _AgedAt:
         ``c`` (n, 3, Cu) each."""
         n, Cu = c.shape
         flat = np.zeros((n, 1), dtype=np.int64)
-        w = np.ones((n, 1))
-        dw = [np.ones((n, 1)) for _ in range(Cu)] if derivative else []
+        # the basis weights of each row, and with ``derivative`` their derivatives along
+        # each axis: (n, 1 + Cu, B)
+        W = np.ones((n, 1 + Cu if derivative else 1, 1))
         for a, (t, k, size) in enumerate(zip(self.t, self.k, self.size)):
             first, values, slopes = _basis(c[:, a], t, k)
-            index = first[:, None] + np.arange(k + 1)
-            flat = (flat[:, :, None] * size + index[:, None, :]).reshape(n, -1)
-            for b in range(len(dw)):
-                dw[b] = (dw[b][:, :, None] * (slopes if b == a else values)[:, None, :]
-                         ).reshape(n, -1)
-            w = (w[:, :, None] * values[:, None, :]).reshape(n, -1)
+            flat = (flat[:, :, None] * size + (first[:, None] + np.arange(k + 1))[:, None, :]
+                    ).reshape(n, -1)
+            along = np.repeat(values[:, None, :], W.shape[1], axis=1)
+            if derivative:
+                along[:, 1 + a] = slopes
+            W = (W[:, :, :, None] * along[:, :, None, :]).reshape(n, W.shape[1], -1)
         i = self.i[rows]
-        out = []
-        for node in (0, 1):
-            value = np.zeros((n, 3))
-            slope = np.zeros((n, 3, Cu)) if derivative else None
-            for v in range(self.nodes.shape[1]):
-                # the table is (mix node, spline coefficient, dose node): a row's two
-                # dose nodes are adjacent rows of it
-                at = (self.nodes[rows, v, None] * self.n_coef + flat) * self.T + i[:, None]
-                g = np.take(self.table, at + node, axis=0)                   # (n, B, 3)
-                wm = self.wm[rows, v, None]
-                value += wm * np.einsum("nb,nbc->nc", w, g)
-                for b in range(len(dw)):
-                    slope[:, :, b] += wm * np.einsum("nb,nbc->nc", dw[b], g)
-            out.append((value, slope))
-        return out
+        lo = np.zeros((n, W.shape[1], 3))
+        hi = np.zeros((n, W.shape[1], 3))
+        for v in range(self.nodes.shape[1]):
+            # the table is (mix node, spline coefficient, dose node): a row's two dose
+            # nodes are adjacent rows of it
+            at = (self.nodes[rows, v, None] * self.n_coef + flat) * self.T + i[:, None]
+            Wv = W * self.wm[rows, v, None, None]
+            lo += Wv @ np.take(self.table, at, axis=0)                       # (n, 1+Cu, 3)
+            hi += Wv @ np.take(self.table, at + 1, axis=0)
+        if not derivative:
+            return (lo[:, 0], None), (hi[:, 0], None)
+        return ((lo[:, 0], np.swapaxes(lo[:, 1:], 1, 2)),
+                (hi[:, 0], np.swapaxes(hi[:, 1:], 1, 2)))
 
     def with_jacobian(self, c, rows=slice(None)):
         """``log XYZ_aged`` (n, 3) and its derivative in ``c`` (n, 3, Cu)."""
