@@ -108,6 +108,10 @@ _H_LAB = 0.05
 _H_LOG = 1e-4
 #: Step in concentration of the unmixer's slope (as :func:`.unmix.jacobian`).
 _H_C = 1e-5
+#: Texels whose spread exceeds this ΔE00 are searched for another original ...
+_PROBE = 0.5
+#: ... from starts this far (ΔE00 in the original) along the collapsing direction.
+_PROBE_STEP = 3 * LOST_APART
 
 
 @dataclass(frozen=True)
@@ -413,10 +417,41 @@ def _uncertainty(aged, rows, c0, XYZ_seen, unmixer, precision):
     # the seen colour's rounding box, back through the inverse of J
     U, s, Vt = np.linalg.svd(J)
     s = np.maximum(s, 1e-12 * np.maximum(s[:, :1], 1e-30))
-    B = np.swapaxes(Vt, 1, 2) @ (np.swapaxes(U, 1, 2) / s[:, :, None])
-    B = B @ _dLab_dencoded(XYZ_to_linear_srgb(XYZ1))                      # per encoded unit
+    T = _dLab_dencoded(XYZ_to_linear_srgb(XYZ1))                          # per encoded unit
+    B = np.swapaxes(Vt, 1, 2) @ (np.swapaxes(U, 1, 2) / s[:, :, None]) @ T
     G0 = _metric(XYZ_to_Lab(XYZ0))
-    return np.sqrt(precision ** 2 / 3.0 * np.einsum("nji,njk,nki->n", B, G0, B)), r0
+    spread = np.sqrt(precision ** 2 / 3.0 * np.einsum("nji,njk,nki->n", B, G0, B))
+    # the original difference the aging shrinks most, as a step of concentrations
+    # (ΔE00 1 in the original), and the seen colour's rounding in ΔE*ab
+    v = Vt[:, -1]
+    direction = np.zeros((n, Cu))
+    if Cu:
+        v = v / np.sqrt(np.maximum(np.einsum("ni,nij,nj->n", v, G0, v), 1e-30))[:, None]
+        direction = np.einsum("nij,nj->ni", pseudo_inverse(dLab), v)
+    seen = precision * np.sqrt(np.einsum("nij,nij->n", T, T) / 3.0)
+    return spread, r0, direction, seen
+
+
+def _other_original(aged, rows, c0, XYZ_seen, direction, seen):
+    """ΔE00 (n,) from the restored original to another that explains the seen colour as
+    well (to ``seen``, its own rounding, ΔE*ab), found by solving again from ``c0`` moved
+    :data:`_PROBE_STEP` along the collapsing ``direction`` either way; 0 where none.
+
+    The Jacobian only sees the aging near ``c0``; a fold further away (two originals
+    that fade onto one colour while each alone fades smoothly) shows this way.
+    """
+    Lab_seen = XYZ_to_Lab(XYZ_seen)
+    XYZ0 = XYZ_seen / np.exp(aged.log_ratio(c0, rows))
+    own = np.linalg.norm(XYZ_to_Lab(np.exp(aged(c0, rows))) - Lab_seen, axis=-1)
+    found = np.zeros(c0.shape[0])
+    for sign in (1.0, -1.0):
+        start = np.clip(c0 + sign * _PROBE_STEP * direction, 0.0, 1.0)
+        alt = _solve(aged, rows, XYZ_seen, start)
+        miss = np.linalg.norm(XYZ_to_Lab(np.exp(aged(alt, rows))) - Lab_seen, axis=-1)
+        other = XYZ_seen / np.exp(aged.log_ratio(alt, rows))
+        apart = delta_E_2000(XYZ_to_Lab(other), XYZ_to_Lab(XYZ0))
+        found = np.maximum(found, np.where(miss <= own + seen, apart, 0.0))
+    return found
 
 
 def _solve(aged, rows, XYZ_seen, start):
@@ -543,6 +578,7 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
     aged = _AgedAt(grid, unmixer, dose_g, mix_g)
     log_ratio = np.zeros((G, 3))
     spread_g = np.zeros(G)
+    folded = np.zeros(G, dtype=bool)
     lit = np.flatnonzero(dose_g > 0)
     say(0.3, f"inverting the fade of {lit.size} colours")
     for b0 in range(0, lit.size, _BLOCK):
@@ -550,8 +586,13 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
         start = (unmixer.unmix(colours[colour_of[first[rows]]], encoded=True, refine=0)
                  if unmixer.Cu else np.zeros((rows.size, 0)))
         c0 = _invert(aged, rows, XYZ_g[rows], start, unmixer) if unmixer.Cu else start
-        spread_g[rows], log_ratio[rows] = _uncertainty(aged, rows, c0, XYZ_g[rows], unmixer,
-                                                       precision)
+        spread_g[rows], log_ratio[rows], direction, seen = _uncertainty(
+            aged, rows, c0, XYZ_g[rows], unmixer, precision)
+        probe = np.flatnonzero(spread_g[rows] > _PROBE) if unmixer.Cu else []
+        if len(probe):
+            other = _other_original(aged, rows[probe], c0[probe], XYZ_g[rows[probe]],
+                                    direction[probe], seen[probe])
+            folded[rows[probe]] = other > LOST_APART
         say(0.3 + 0.7 * min(b0 + _BLOCK, lit.size) / lit.size,
             f"inverting the fade of {lit.size} colours")
     spread = spread_g[group].reshape(spread.shape)
@@ -564,7 +605,8 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
     if out.size:
         outside[out] = delta_E_2000(XYZ_to_Lab(np.maximum(XYZ[out], 0.0)), XYZ_to_Lab(
             linear_srgb_to_XYZ(into_gamut(lin[out])))) > LOST_APART
-    lost = (spread > LOST_APART) | outside.reshape(spread.shape)
+    lost = (spread > LOST_APART) | folded[group].reshape(spread.shape) | \
+        outside.reshape(spread.shape)
     image = encode_in_gamut(lin, encoding).astype(np.float32)
     say(1.0, f"restored; {np.count_nonzero(lost)} pixels lost")
     return Restored(image.reshape(rgb.shape), lost, spread)
