@@ -243,82 +243,89 @@ class _AgedAt:
             self.nodes, self.wm = np.zeros((N, 1), dtype=np.int64), np.ones((N, 1))
         else:
             self.nodes, self.wm = simplex_interpolation(np.asarray(mix, float), grid.q)
-        if grid.axes:
-            spline = grid.spline()
-            self.t = [np.asarray(t, dtype=float) for t in spline.t]
-            self.k = [int(k) for k in np.broadcast_to(spline.k, (len(grid.axes),))]
-            self.size = spline.c.shape[:-1]
-            self.n_coef = int(np.prod(self.size))
-            self.T = T
-            self.table = np.ascontiguousarray(np.moveaxis(
-                np.asarray(spline.c, dtype=float).reshape(-1, M, T, 3), 1, 0)).reshape(-1, 3)
-        else:
-            self.table = None
+        self.table = None
+        if not grid.axes:
+            return
+        spline = grid.spline()
+        self.t = [np.asarray(t, dtype=float) for t in spline.t]
+        self.k = [int(k) for k in np.broadcast_to(spline.k, (len(grid.axes),))]
+        size = spline.c.shape[:-1]
+        self.n_coef = int(np.prod(size))
+        self.strides = [int(np.prod(size[a + 1:])) for a in range(len(size))]
+        self.M = M
+        C = np.asarray(spline.c, dtype=float).reshape(self.n_coef, M, T, 3)
+        # one coefficient table per distinct dose position, linear between its two dose
+        # nodes: (position, mix node, coefficient) rows of 3
+        positions, self.position = np.unique(np.stack([self.i, self.f], 1), axis=0,
+                                             return_inverse=True)
+        self.position = self.position.reshape(-1)
+        ip, fp = positions[:, 0].astype(np.int64), positions[:, 1]
+        table = ((1 - fp)[:, None, None, None] * np.moveaxis(C[:, :, ip], 2, 0)
+                 + fp[:, None, None, None] * np.moveaxis(C[:, :, ip + 1], 2, 0))
+        self.table = np.ascontiguousarray(np.swapaxes(table, 1, 2)).reshape(-1, 3)
+        self.first_node = np.ascontiguousarray(np.swapaxes(C[:, :, 0], 0, 1)).reshape(-1, 3)
 
-    def _at_nodes(self, c, rows, derivative=False):
-        """Spline values (n, 3) at each row's dose nodes ``i`` and ``i + 1``, summed
-        over the row's mix vertices, and with ``derivative`` their derivatives in
-        ``c`` (n, 3, Cu) each."""
+    def _basis_weights(self, c, derivative):
+        """Each row's coefficient indices (n, B) and basis weights (n, 1 + Cu, B) (with
+        ``derivative`` their derivatives along each axis in rows 1...)."""
         n, Cu = c.shape
         flat = np.zeros((n, 1), dtype=np.int64)
-        # the basis weights of each row, and with ``derivative`` their derivatives along
-        # each axis: (n, 1 + Cu, B)
         W = np.ones((n, 1 + Cu if derivative else 1, 1))
-        for a, (t, k, size) in enumerate(zip(self.t, self.k, self.size)):
+        for a, (t, k, stride) in enumerate(zip(self.t, self.k, self.strides)):
             first, values, slopes = _basis(c[:, a], t, k)
-            flat = (flat[:, :, None] * size + (first[:, None] + np.arange(k + 1))[:, None, :]
-                    ).reshape(n, -1)
+            index = (first[:, None] + np.arange(k + 1)) * stride
+            flat = (flat[:, :, None] + index[:, None, :]).reshape(n, -1)
             along = np.repeat(values[:, None, :], W.shape[1], axis=1)
             if derivative:
                 along[:, 1 + a] = slopes
             W = (W[:, :, :, None] * along[:, :, None, :]).reshape(n, W.shape[1], -1)
-        i = self.i[rows]
-        lo = np.zeros((n, W.shape[1], 3))
-        hi = np.zeros((n, W.shape[1], 3))
-        for v in range(self.nodes.shape[1]):
-            # the table is (mix node, spline coefficient, dose node): a row's two dose
-            # nodes are adjacent rows of it
-            at = (self.nodes[rows, v, None] * self.n_coef + flat) * self.T + i[:, None]
-            Wv = W * self.wm[rows, v, None, None]
-            lo += Wv @ np.take(self.table, at, axis=0)                       # (n, 1+Cu, 3)
-            hi += Wv @ np.take(self.table, at + 1, axis=0)
-        if not derivative:
-            return (lo[:, 0], None), (hi[:, 0], None)
-        return ((lo[:, 0], np.swapaxes(lo[:, 1:], 1, 2)),
-                (hi[:, 0], np.swapaxes(hi[:, 1:], 1, 2)))
+        return flat, W
+
+    def _evaluate(self, c, rows, derivative=False):
+        """``log XYZ_aged`` (n, 3) of concentrations ``c`` for ``rows``, and with
+        ``derivative`` its derivative in ``c`` (n, 3, Cu), else None."""
+        c = np.clip(np.asarray(c, dtype=float), 0.0, 1.0)
+        n = c.shape[0]
+        i, f = self.i[rows], self.f[rows]
+        nodes, wm = self.nodes[rows], self.wm[rows]
+        if self.table is None:                      # nothing unmixed: one change per dose
+            ch = self.grid.change.astype(float)
+            out = np.zeros((n, 3))
+            for v in range(nodes.shape[1]):
+                m = nodes[:, v]
+                out += wm[:, v, None] * ((1 - f)[:, None] * ch[m, i] + f[:, None] * ch[m, i + 1])
+            return out + _log_XYZ(self.unmixer, c), None
+        flat, W = self._basis_weights(c, derivative)
+        position = self.position[rows] * self.M
+        out = np.zeros((n, W.shape[1], 3))
+        for v in range(nodes.shape[1]):
+            at = ((position + nodes[:, v]) * self.n_coef)[:, None] + flat
+            g = np.take(self.table, at, axis=0)                              # (n, B, 3)
+            out += (W if nodes.shape[1] == 1 else W * wm[:, v, None, None]) @ g
+        value = out[:, 0]
+        below = np.flatnonzero(i == 0)
+        if below.size:
+            # below the first dose node the change rises from exactly 0, as aging has it:
+            # the spline's value at dose 0 is replaced by the exact unexposed colour
+            at0 = flat[below]
+            first = np.zeros((below.size, 3))
+            for v in range(nodes.shape[1]):
+                g0 = np.take(self.first_node, (nodes[below, v] * self.n_coef)[:, None] + at0,
+                             axis=0)
+                first += wm[below, v, None] * np.einsum("nb,nbc->nc", W[below, 0], g0)
+            value[below] += (1 - f[below])[:, None] * (
+                _log_XYZ(self.unmixer, c[below]) - first)
+        if self.grid.initial is None:               # a spline of the change alone
+            value = value + _log_XYZ(self.unmixer, c)
+        return value, (np.swapaxes(out[:, 1:], 1, 2) if derivative else None)
 
     def with_jacobian(self, c, rows=slice(None)):
         """``log XYZ_aged`` (n, 3) and its derivative in ``c`` (n, 3, Cu)."""
-        c = np.clip(np.asarray(c, dtype=float), 0.0, 1.0)
-        f = self.f[rows]
-        (lo, dlo), (hi, dhi) = self._at_nodes(c, rows, derivative=True)
-        value = self._finish(c, rows, lo, hi)
-        return value, dlo + f[:, None, None] * (dhi - dlo)
-
-    def _finish(self, c, rows, lo, hi):
-        i, f = self.i[rows], self.f[rows]
-        base = _log_XYZ(self.unmixer, c) if (self.grid.initial is None or np.any(i == 0)) \
-            else None
-        if self.grid.initial is None:               # a spline of the change alone
-            lo += base
-            hi += base
-        elif base is not None:
-            lo[i == 0] = base[i == 0]               # the change is exactly 0 at dose 0
-        return lo + f[:, None] * (hi - lo)
+        return self._evaluate(c, rows, derivative=True)
 
     def __call__(self, c, rows=slice(None)):
         """``log XYZ_aged`` (n, 3) of concentrations ``c`` (n, Cu) for ``rows``."""
-        c = np.clip(np.asarray(c, dtype=float), 0.0, 1.0)
-        i, f = self.i[rows], self.f[rows]
-        if self.table is None:                      # nothing unmixed: one change per dose
-            ch = self.grid.change.astype(float)
-            out = np.zeros((c.shape[0], 3))
-            for v in range(self.nodes.shape[1]):
-                m = self.nodes[rows, v]
-                out += self.wm[rows, v, None] * ((1 - f)[:, None] * ch[m, i] + f[:, None] * ch[m, i + 1])
-            return out + _log_XYZ(self.unmixer, c)
-        (lo, _), (hi, _) = self._at_nodes(c, rows)
-        return self._finish(c, rows, lo, hi)
+        return self._evaluate(c, rows)[0]
 
     def log_ratio(self, c, rows=slice(None)):
         """``change(c, dose)`` (n, 3): ``log(XYZ_aged / XYZ_initial)`` as aging applies it."""
