@@ -98,6 +98,8 @@ PRECISION = 0.5 / 255
 _ITERATIONS = 12
 #: Mismatch (ΔE*ab) at which a colour's solve stops (the polish below refines it).
 _TOLERANCE = 0.05
+#: ... or at which its concentrations move less than this in a step.
+_STEP_TOLERANCE = 1e-3
 #: Fixed-point steps with the aging's own unmixing after it.
 _POLISH = 1
 #: Distinct (colour, dose level) rows inverted per block (bounds the temporaries:
@@ -475,7 +477,7 @@ def _solve(aged, rows, XYZ_seen, start):
         return XYZ_to_Lab(XYZ), _dLab_dlogXYZ(XYZ) @ J
 
     return bounded_gauss_newton(seen_of, start, Lab_seen, _ITERATIONS, jac=with_jacobian,
-                                tol=_TOLERANCE)
+                                tol=_TOLERANCE, step_tol=_STEP_TOLERANCE)
 
 
 def _invert(aged, rows, XYZ_seen, start, unmixer):

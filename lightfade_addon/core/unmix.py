@@ -69,7 +69,7 @@ def pseudo_inverse(J):
     return np.linalg.solve(JtJ, np.swapaxes(J, 1, 2))
 
 
-def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0):
+def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0, step_tol=0.0):
     """Least squares ``|F(c) - target|^2`` per row over the box [0, 1], in place.
 
     Projected Gauss–Newton with an active set and a backtracking line search:
@@ -93,6 +93,9 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0):
         ``F`` with its Jacobian, instead of one-sided differences of step ``h``.
     tol : float
         Rows whose residual norm is at most ``tol`` are solved and leave the active set.
+    step_tol : float
+        So are rows whose accepted step changed no variable by more than ``step_tol``
+        (least-squares solutions that do not reach ``tol``).
 
     Returns
     -------
@@ -137,8 +140,12 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0):
                 break
             trial = np.clip(ca[todo] - alpha * delta[todo], 0.0, 1.0)
             better = np.sum((Fa(trial, todo) - ta[todo]) ** 2, axis=1) < cost[todo]
+            if step_tol > 0:
+                small = np.abs(trial[better] - ca[todo[better]]).max(axis=1) <= step_tol
             ca[todo[better]] = trial[better]
             moved[todo[better]] = True
+            if step_tol > 0:
+                moved[todo[better][small]] = False      # converged: leaves after this step
         c[active] = ca
         active = active[moved]
     return c
