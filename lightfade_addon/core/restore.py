@@ -104,7 +104,7 @@ _STEP_TOLERANCE = 1e-3
 _POLISH = 1
 #: Distinct (colour, dose level) rows inverted per block (bounds the temporaries:
 #: about 4 kB a row).
-_BLOCK = 1 << 14
+_BLOCK = 1 << 13
 #: Step (ΔE*ab, and in log XYZ) of the finite differences of the lost test.
 _H_LAB = 0.05
 _H_LOG = 1e-4
@@ -405,11 +405,11 @@ def _uncertainty(aged, rows, c0, XYZ_seen, unmixer, precision):
     """
     n, Cu = c0.shape
     c0 = np.clip(c0, 0.0, 1.0)
-    # the unexposed colour at c0 and one step along each concentration (inside [0, 1]),
-    # in one Kubelka–Munk call: the unmixer's slope and d log XYZ / dc from the same steps
+    # the unexposed colour at c0 and one step along each concentration (inside [0, 1]):
+    # the unmixer's slope and d log XYZ / dc from the same steps
     h = np.where(c0 + _H_C <= 1.0, _H_C, -_H_C)                            # (n, Cu)
-    steps = np.concatenate([c0] + [c0 + np.eye(Cu)[k] * h[:, k:k + 1] for k in range(Cu)])
-    X = np.maximum(unmixer.XYZ(steps), XYZ_FLOOR).reshape(Cu + 1, n, 3)
+    X = np.maximum(np.stack([unmixer.XYZ(c0)] + [unmixer.XYZ(c0 + np.eye(Cu)[k] * h[:, k:k + 1])
+                                                 for k in range(Cu)]), XYZ_FLOOR)
     log_X, Lab_X = np.log(X), XYZ_to_Lab(X)
     log_aged, dlog_aged = aged.with_jacobian(c0, rows) if Cu else (aged(c0, rows), None)
     r0 = log_aged - log_X[0]                                              # (n, 3)
