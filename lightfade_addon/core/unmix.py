@@ -94,8 +94,9 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0, st
     tol : float
         Rows whose residual norm is at most ``tol`` are solved and leave the active set.
     step_tol : float
-        So are rows whose accepted step changed no variable by more than ``step_tol``
-        (least-squares solutions that do not reach ``tol``).
+        Rows whose Gauss–Newton step changes no variable by more than ``step_tol`` take
+        it without a line search and leave (least-squares solutions that do not reach
+        ``tol``).
 
     Returns
     -------
@@ -134,20 +135,20 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0, st
             delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
             delta[held] = 0.0
         moved = np.zeros(active.size, dtype=bool)
+        settled = np.zeros(active.size, dtype=bool)             # converged: leave after this
+        if step_tol > 0:
+            settled = np.abs(delta).max(axis=1) <= step_tol     # a full step, no search
+            ca[settled] = np.clip(ca[settled] - delta[settled], 0.0, 1.0)
         for alpha in (1.0, 0.5, 0.25, 0.125):
-            todo = np.flatnonzero(~moved)
+            todo = np.flatnonzero(~moved & ~settled)
             if todo.size == 0:
                 break
             trial = np.clip(ca[todo] - alpha * delta[todo], 0.0, 1.0)
             better = np.sum((Fa(trial, todo) - ta[todo]) ** 2, axis=1) < cost[todo]
-            if step_tol > 0:
-                small = np.abs(trial[better] - ca[todo[better]]).max(axis=1) <= step_tol
             ca[todo[better]] = trial[better]
             moved[todo[better]] = True
-            if step_tol > 0:
-                moved[todo[better][small]] = False      # converged: leaves after this step
         c[active] = ca
-        active = active[moved]
+        active = active[moved & ~settled]
     return c
 
 
