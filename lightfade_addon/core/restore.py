@@ -106,6 +106,7 @@ _STEP_TOLERANCE = 1e-3
 _POLISH = 1
 #: Nodes per axis of the inverse table that starts the solves (:func:`_inverse_starts`).
 _INVERSE_NODES = 17
+_INVERSE_PAYS = 2
 #: Distinct (colour, dose level) rows inverted per block (bounds the temporaries:
 #: about 4 kB a row).
 _BLOCK = 1 << 13
@@ -500,7 +501,7 @@ def _inverse_starts(grid, unmixer, dose, lit, encoded):
     table); None when there are too few colours per dose for it to pay."""
     doses, member = np.unique(dose[lit], return_inverse=True)
     m = _INVERSE_NODES
-    if doses.size * m ** 3 * 4 > lit.size:
+    if doses.size * m ** 3 * _INVERSE_PAYS > lit.size:
         return None
     axis = np.linspace(0.0, 1.0, m)
     nodes = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
