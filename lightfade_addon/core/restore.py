@@ -12,19 +12,18 @@ colour is ``XYZ_aged(c0, d)``: a function of the three concentrations alone. The
 inversion, per distinct seen colour and dose level, is therefore
 
 1. **a solve on the grid alone**: bounded Gauss–Newton (:func:`.unmix.bounded_gauss_newton`)
-   on ``Lab(XYZ_aged(c0, d)) - Lab_seen`` with its exact Jacobian, started from an
-   inverse table (the same solve on a 17³ lattice of encoded sRGB per dose, interpolated
-   trilinearly, :func:`_inverse_starts`) when the texture has enough colours per dose
-   for it to pay, else from the seen colour's own concentrations in the unmixer's table
-   (:meth:`.unmix.Unmixer.unmix` without refinement). Rows stop at a mismatch of
-   ΔE*ab 0.05 or a step below 0.001 in concentration. ``XYZ_aged`` at one dose per row is evaluated from the spline's
-   coefficients directly (:class:`_AgedAt`: the 4³ basis weights of each row and their
-   derivatives times the coefficients at the row's two dose nodes and light-mix
-   vertices), not along the whole dose axis as aging needs it: a few gathers per row,
-   no Kubelka–Munk evaluation;
+   on ``Lab(XYZ_aged(c0, d)) - Lab_seen`` with its exact Jacobian. ``XYZ_aged`` at one
+   dose per row is evaluated from the spline's coefficients directly (:class:`_AgedAt`:
+   the 4³ basis weights of each row and their derivatives times one coefficient table
+   per dose, linear between its two dose nodes), not along the whole dose axis as aging
+   needs it, and with no Kubelka–Munk evaluation. The solve starts from an inverse table
+   (the same solve on a 17³ lattice of encoded sRGB per dose, interpolated trilinearly,
+   :func:`_inverse_starts`) when the texture has enough colours per dose for it to pay,
+   else from the seen colour's own concentrations in the unmixer's table; a colour stops
+   at a mismatch of ΔE*ab 0.05 or a step below 0.001 in concentration;
 2. **a polish with the aging's own unmixing**: a fixed-point step
    ``c0 = unmix(XYZ_seen / exp(change(c0, d)))`` (:meth:`.unmix.Unmixer.unmix`, as
-   :class:`.aging.TextureAger` unmixes), which also carry colours outside the recipe's
+   :class:`.aging.TextureAger` unmixes), which also places colours outside the recipe's
    gamut, whose detail rides on the ratio.
 
 The restored pixel is ``XYZ_seen / exp(change(c0, d))``: texture detail survives, and
@@ -36,8 +35,8 @@ A texel is *lost* when the seen colour no longer tells its original apart: origi
 that differ visibly before the light (more than ΔE00 :data:`LOST_APART` = 2 from the
 restored one) end up within the seen image's own precision of it after the light, so
 that the image cannot say which of them it shows and the restoration is expected to
-be off by more than ΔE00 2. Where the inversion is merely hard (many iterations, a start far
-from the answer) but the forward map keeps originals apart, nothing is lost.
+be off by more than ΔE00 2. Where the inversion is merely hard (many iterations, a
+start far from the answer) but the forward map keeps originals apart, nothing is lost.
 
 The seen image holds each colour to :data:`PRECISION` (half a step of 8-bit encoded
 sRGB per channel, ΔE00 0.1–0.4: the rounding of the file it came from). The
@@ -56,6 +55,12 @@ of the forward map at the restored original (:func:`_uncertainty`):
   restoration lands on average from the seen image's rounding alone;
 * ``lost = spread > LOST_APART``: the originals the seen colour stands for lie, RMS,
   more than ΔE00 2 from the restored one.
+
+The Jacobian sees the aging near the restored original only. Where it already
+shrinks differences (``spread`` above ΔE00 0.5) the solve is repeated from starts
+ΔE00 6 away along the most shrunk direction, both ways (:func:`_other_original`): an
+original more than ΔE00 2 away that explains the seen colour as well (to its rounding)
+is a fold of the forward map, and the texel is lost too.
 
 Also lost: texels that no displayable original explains (the original the inversion
 finds lies more than ΔE00 2 outside [0, 1]: a history the photograph cannot have had,
@@ -104,7 +109,8 @@ _TOLERANCE = 0.05
 _STEP_TOLERANCE = 1e-3
 #: Fixed-point steps with the aging's own unmixing after it.
 _POLISH = 1
-#: Nodes per axis of the inverse table that starts the solves (:func:`_inverse_starts`).
+#: Nodes per axis of the inverse table that starts the solves (:func:`_inverse_starts`),
+#: built when there are this many times its nodes of colours per dose.
 _INVERSE_NODES = 17
 _INVERSE_PAYS = 2
 #: Distinct (colour, dose level) rows inverted per block (bounds the temporaries:
@@ -151,8 +157,8 @@ class Restored:
         The estimated new texture, in [0, 1] in the input's encoding.
     lost : ndarray of bool, shape of the input without the channel axis
         Texels whose original the light made indistinguishable (``spread >``
-        :data:`LOST_APART`) or that no displayable original explains (the module
-        docstring).
+        :data:`LOST_APART`, or another original as good found further away) or that
+        no displayable original explains (the module docstring).
     spread : ndarray, shape of ``lost``
         Per texel, the RMS ΔE00 between the restored original and the originals the
         seen colour cannot tell from it (0 where no light fell).
