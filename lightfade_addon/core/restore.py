@@ -27,7 +27,10 @@ inversion, per distinct seen colour and dose level, is therefore
    gamut, whose detail rides on the ratio.
 
 The restored pixel is ``XYZ_seen / exp(change(c0, d))``: texture detail survives, and
-aging it again by the same light and years gives the seen image back.
+aging it again by the same light and years gives the seen image back. A texture with
+more distinct colours than aging unmixes one by one (:data:`.texels.UNMIX_BUDGET`:
+16-bit and float photographs) is solved per 8-bit colour, each texel keeping its own
+detail through the ratio.
 
 What is lost
 ------------
@@ -91,7 +94,8 @@ from .lattice import grid_max_dose, simplex_interpolation
 from .lights import Light, dose_rates, spectra_keys
 from .recipes import get_recipe
 from .spectra import WAVELENGTHS, light_spectrum
-from .texels import UNMIX_REFINE, _distinct
+from . import texels
+from .texels import UNMIX_REFINE, _codes, _decode, _distinct
 from .unmix import bounded_gauss_newton, get_unmixer, pseudo_inverse
 
 __all__ = ["LOST_APART", "PRECISION", "Prior", "Restored", "restore"]
@@ -603,6 +607,11 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
                          progress=lambda f, m: say(0.3 * f, m))
     unmixer = get_unmixer(recipe)
     colours, colour_of = _distinct(_encoded(flat, encoding))
+    if colours.shape[0] > texels.UNMIX_BUDGET:
+        # more colours than aging unmixes one by one (16-bit and float photographs):
+        # one solve per 8-bit colour; each texel keeps its own detail through the ratio
+        codes, inverse = np.unique(_codes(colours), return_inverse=True)
+        colours, colour_of = _decode(codes), inverse.reshape(-1)[colour_of]
 
     # one solve per distinct (colour, dose level, light mix level)
     level = np.rint(doses / dmax * (levels - 1)).astype(np.int64)
