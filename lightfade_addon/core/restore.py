@@ -61,9 +61,10 @@ of the forward map at the restored original (:func:`_uncertainty`):
 
 The Jacobian sees the aging near the restored original only. Where it already
 shrinks differences (``spread`` above ΔE00 0.5) the solve is repeated from starts
-ΔE00 6 away along the most shrunk direction, both ways (:func:`_other_original`): an
-original more than ΔE00 2 away that explains the seen colour as well (to its rounding)
-is a fold of the forward map, and the texel is lost too.
+ΔE00 6 away along the most shrunk direction, both ways (:func:`_other_original`): a
+displayable original more than ΔE00 2 away that aging (with its own unmixing) takes to
+the seen colour as well, to the seen colour's rounding, is a fold of the forward map,
+and the texel is lost too.
 
 Also lost: texels that no displayable original explains (the original the inversion
 finds lies more than ΔE00 2 outside [0, 1]: a history the photograph cannot have had,
@@ -456,23 +457,32 @@ def _uncertainty(aged, rows, c0, XYZ_seen, unmixer, precision):
     return spread, r0, direction, seen
 
 
-def _other_original(aged, rows, c0, XYZ_seen, direction, seen):
-    """ΔE00 (n,) from the restored original to another that explains the seen colour as
-    well (to ``seen``, its own rounding, ΔE*ab), found by solving again from ``c0`` moved
-    :data:`_PROBE_STEP` along the collapsing ``direction`` either way; 0 where none.
+def _other_original(aged, rows, c0, XYZ_seen, direction, seen, unmixer):
+    """ΔE00 (n,) from the restored original to another that aging takes to the seen
+    colour as well (to ``seen``, its own rounding, ΔE*ab), found by solving again from
+    ``c0`` moved :data:`_PROBE_STEP` along the collapsing ``direction`` either way; 0
+    where none.
 
     The Jacobian only sees the aging near ``c0``; a fold further away (two originals
-    that fade onto one colour while each alone fades smoothly) shows this way.
+    that fade onto one colour while each alone fades smoothly) shows this way. Each
+    candidate is aged as :class:`.aging.TextureAger` would age it (displayable, then
+    unmixed by the aging's own unmixing), so that only true alternatives count.
     """
     Lab_seen = XYZ_to_Lab(XYZ_seen)
-    XYZ0 = XYZ_seen / np.exp(aged.log_ratio(c0, rows))
-    own = np.linalg.norm(XYZ_to_Lab(np.exp(aged(c0, rows))) - Lab_seen, axis=-1)
+
+    def original_and_miss(c):
+        """The displayable original ``c`` stands for, and how far aging it lands from
+        the seen colour (ΔE*ab)."""
+        lin = into_gamut(XYZ_to_linear_srgb(XYZ_seen / np.exp(aged.log_ratio(c, rows))))
+        XYZ = linear_srgb_to_XYZ(lin)
+        again = XYZ * np.exp(aged.log_ratio(unmixer.unmix(lin, refine=UNMIX_REFINE), rows))
+        return XYZ, np.linalg.norm(XYZ_to_Lab(again) - Lab_seen, axis=-1)
+
+    XYZ0, own = original_and_miss(c0)
     found = np.zeros(c0.shape[0])
     for sign in (1.0, -1.0):
         start = np.clip(c0 + sign * _PROBE_STEP * direction, 0.0, 1.0)
-        alt = _solve(aged, rows, XYZ_seen, start)
-        miss = np.linalg.norm(XYZ_to_Lab(np.exp(aged(alt, rows))) - Lab_seen, axis=-1)
-        other = XYZ_seen / np.exp(aged.log_ratio(alt, rows))
+        other, miss = original_and_miss(_solve(aged, rows, XYZ_seen, start))
         apart = delta_E_2000(XYZ_to_Lab(other), XYZ_to_Lab(XYZ0))
         found = np.maximum(found, np.where(miss <= own + seen, apart, 0.0))
     return found
@@ -655,7 +665,7 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
         probe = np.flatnonzero(spread_g[rows] > _PROBE) if unmixer.Cu else []
         if len(probe):
             other = _other_original(aged, rows[probe], c0[probe], XYZ_g[rows[probe]],
-                                    direction[probe], seen[probe])
+                                    direction[probe], seen[probe], unmixer)
             folded[rows[probe]] = other > LOST_APART
         say(0.3 + 0.7 * min(b0 + _BLOCK, lit.size) / lit.size,
             f"inverting the fade of {lit.size} colours")
