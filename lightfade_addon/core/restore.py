@@ -17,7 +17,7 @@ inversion, per distinct seen colour and dose level, is therefore
    the 4³ basis weights of each row and their derivatives times one coefficient table
    per dose, linear between its two dose nodes), not along the whole dose axis as aging
    needs it, and with no Kubelka–Munk evaluation. The solve starts from an inverse table
-   (the same solve on a 17³ lattice of encoded sRGB per dose, interpolated trilinearly,
+   (the same solve on a 13³ lattice of encoded sRGB per dose, interpolated trilinearly,
    :func:`_inverse_starts`) when the texture has enough colours per dose for it to pay,
    else from the seen colour's own concentrations in the unmixer's table; a colour stops
    at a mismatch of ΔE*ab 0.05 or a step below 0.001 in concentration;
@@ -116,7 +116,7 @@ _STEP_TOLERANCE = 1e-3
 _POLISH = 1
 #: Nodes per axis of the inverse table that starts the solves (:func:`_inverse_starts`),
 #: built when there are this many times its nodes of colours per dose.
-_INVERSE_NODES = 17
+_INVERSE_NODES = 13
 _INVERSE_PAYS = 2
 #: Distinct (colour, dose level) rows inverted per block (bounds the temporaries:
 #: about 4 kB a row).
