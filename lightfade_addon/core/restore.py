@@ -404,8 +404,7 @@ def _dLab_dencoded(lin):
 
 
 def _uncertainty(aged, rows, c0, XYZ_seen, unmixer, precision):
-    """Expected (RMS) ΔE00 error (n,) of restored originals (see the module docstring),
-    and their change ``log(XYZ_aged / XYZ_initial)`` (n, 3).
+    """How well the seen colours pin their restored originals (the module docstring).
 
     Parameters
     ----------
@@ -418,6 +417,19 @@ def _uncertainty(aged, rows, c0, XYZ_seen, unmixer, precision):
         The seen colours.
     precision : float
         Half a step of the seen image's values, in encoded sRGB.
+
+    Returns
+    -------
+    spread : ndarray, shape (n,)
+        RMS ΔE00 between the restored original and those the seen colour's rounding
+        box stands for.
+    log_ratio : ndarray, shape (n, 3)
+        The change ``log(XYZ_aged / XYZ_initial)`` at ``c0``.
+    direction : ndarray, shape (n, Cu)
+        The step of concentrations of the original difference the aging shrinks most,
+        ΔE00 1 in the original.
+    seen : ndarray, shape (n,)
+        The seen colour's rounding, RMS ΔE*ab.
     """
     n, Cu = c0.shape
     c0 = np.clip(c0, 0.0, 1.0)
