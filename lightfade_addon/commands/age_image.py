@@ -83,7 +83,8 @@ def add_arguments(parser):
     model.add_argument("--restore", metavar="YEARS", type=number("years"),
                        help="the photo is already YEARS old under the light and schedule "
                             "given: first estimate it new (writes PHOTO_restored and "
-                            "PHOTO_lost.png, white where fading destroyed the colour), then "
+                            "PHOTO_lost.png, white where the faded colour no longer tells "
+                            "its original apart to ΔE00 2), then "
                             "age from new (--years 0 is the restored image)")
     model.add_argument("--exact", action="store_true",
                        help="reference path: simulate every distinct colour directly "
@@ -165,8 +166,11 @@ def _restore(rgb, alpha, info, years, recipe, light, exposure, base, encoding):
 
     with ProgressBar("restore") as bar:
         try:
+            # the file's own precision: half a step of its integers (8 bits for
+            # half and float files, which hold no more than the camera's 8-bit steps)
+            steps = {"uint16": 65535}.get(info.dtype, 255)
             result = restore(np.clip(rgb, 0.0, 1.0), years, recipe, [light], exposure,
-                             encoding=encoding, progress=bar)
+                             encoding=encoding, progress=bar, precision=0.5 / steps)
         except ValueError as exc:
             raise UserError(str(exc)) from None
     suffix = ".exr" if info.dtype in ("half", "float") else ".png"
@@ -174,9 +178,9 @@ def _restore(rgb, alpha, info, years, recipe, light, exposure, base, encoding):
     lost = base.with_name(base.name + "_lost.png")
     _write(restored, result.image, alpha, info.dtype, info.metadata)
     _write(lost, np.repeat(result.lost[..., None], 3, -1).astype(np.float32), None, "uint8")
-    share = result.lost_count / max(result.lost.size, 1)
     print(f"restored {years:g} y of {format_dose(years * light.annual_dose)} Mlx·h: "
-          f"{result.lost_count} pixels ({share:.1%}) lost, shown white in {lost}")
+          f"{result.lost_count} pixels ({result.lost_fraction:.1%}) lost, shown white "
+          f"in {lost}")
     return result.image
 
 

@@ -69,7 +69,7 @@ def pseudo_inverse(J):
     return np.linalg.solve(JtJ, np.swapaxes(J, 1, 2))
 
 
-def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
+def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0, step_tol=0.0):
     """Least squares ``|F(c) - target|^2`` per row over the box [0, 1], in place.
 
     Projected Gauss–Newton with an active set and a backtracking line search:
@@ -89,6 +89,14 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
         Start, in [0, 1]; overwritten with the solution.
     target : ndarray, shape (N, K)
     iterations : int
+    jac : callable, jac(x, rows) -> (F(x, rows), dF/dx (n, K, Cu)), optional
+        ``F`` with its Jacobian, instead of one-sided differences of step ``h``.
+    tol : float
+        Rows whose residual norm is at most ``tol`` are solved and leave the active set.
+    step_tol : float
+        Rows whose Gauss–Newton step changes no variable by more than ``step_tol`` take
+        it without a line search and leave (least-squares solutions that do not reach
+        ``tol``).
 
     Returns
     -------
@@ -101,22 +109,38 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
             break
         ca, ta = c[active], target[active]
 
+        if jac is None:
+            F_c = F(ca, active)
+        else:
+            F_c, J = jac(ca, active)
+        r = F_c - ta                                            # (n, K) residual
+        cost = np.sum(r * r, axis=1)
+        if tol > 0:                                             # solved rows leave
+            keep = cost > tol * tol
+            if not keep.all():
+                active, ca, ta, F_c, r, cost = (a[keep] for a in (active, ca, ta, F_c, r, cost))
+                J = J[keep] if jac is not None else None
+                if active.size == 0:
+                    break
+
         def Fa(x, rows=None, active=active):
             return F(x, active if rows is None else active[rows])
 
-        F_c = Fa(ca)
-        r = F_c - ta                                            # (n, K) residual
-        J = jacobian(Fa, ca, F_c, h)
+        if jac is None:
+            J = jacobian(Fa, ca, F_c, h)
         delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
         held = ((ca <= 0.0) & (delta > 0)) | ((ca >= 1.0) & (delta < 0))
         if held.any():
             J = np.where(held[:, None, :], 0.0, J)
             delta = np.einsum("nki,ni->nk", pseudo_inverse(J), r)
             delta[held] = 0.0
-        cost = np.sum(r * r, axis=1)
         moved = np.zeros(active.size, dtype=bool)
+        settled = np.zeros(active.size, dtype=bool)             # converged: leave after this
+        if step_tol > 0:
+            settled = np.abs(delta).max(axis=1) <= step_tol     # a full step, no search
+            ca[settled] = np.clip(ca[settled] - delta[settled], 0.0, 1.0)
         for alpha in (1.0, 0.5, 0.25, 0.125):
-            todo = np.flatnonzero(~moved)
+            todo = np.flatnonzero(~moved & ~settled)
             if todo.size == 0:
                 break
             trial = np.clip(ca[todo] - alpha * delta[todo], 0.0, 1.0)
@@ -124,7 +148,7 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5):
             ca[todo[better]] = trial[better]
             moved[todo[better]] = True
         c[active] = ca
-        active = active[moved]
+        active = active[moved & ~settled]
     return c
 
 

@@ -1,5 +1,7 @@
 """age-image's core flags: --kinetics and --restore (written images, lost mask)."""
 
+import re
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -51,7 +53,11 @@ def test_restore_writes_the_restored_image_and_the_lost_mask(photo, tmp_path, ca
     restored, lost = read(out / "old_restored.png"), read(out / "old_lost.png")
     assert restored.shape == lost.shape == (12, 16, 3)
     assert set(np.unique(lost)) <= {0.0, 1.0}
-    assert "pixels" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    # the count and share printed are the mask's
+    count, share = re.search(r"(\d+) pixels \(([\d.]+)%\) lost", printed).groups()
+    assert int(count) == np.count_nonzero(lost[..., 0])
+    assert float(share) == round(100 * lost[..., 0].mean(), 1)
     # new again: the restored image is more colourful (less faded) than the photo
     np.testing.assert_allclose(read(out / "old_0y.png"), restored, atol=1 / 255)
     assert np.std(restored, axis=2).mean() > np.std(read(photo), axis=2).mean()
