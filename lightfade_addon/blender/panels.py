@@ -13,6 +13,7 @@ from .bake.panel import draw_bake_panel
 from .stats import annual_dose, emitter_schedule, image_max
 from .status import copy_status
 from .years import YEARS_PROP
+from ..output import plural
 
 
 class LightFadeSidebarMixin:
@@ -213,9 +214,12 @@ class MATERIAL_PT_lightfade(bpy.types.Panel):
         if copy is not None:
             box.label(text=f"{obj.name}: {copy.lightfade.path.lower()} — {copy.lightfade.reason}")
             box.label(text=copy_status(context.scene, copy))
-            if copy.lightfade.lost_texels:
-                box.label(text=f"{copy.lightfade.lost_texels} texels faded past recovery: their "
-                          "colour when new is a best guess", icon="ERROR")
+            lost = copy.lightfade.lost_texels
+            if lost:
+                key = copy.lightfade.key_image
+                share = lost / max(key.size[0] * key.size[1], 1) if key is not None else 0.0
+                box.label(text=f"{plural(lost, 'texel')} ({share:.1%}) faded past recovery: "
+                          "their colour when new is a best guess", icon="ERROR")
             return
         plan = material_plan(context.scene, obj, material)
         box.label(text=f"{obj.name}: {plan.path.lower()} — {plan.reason or 'not checked'}")
