@@ -16,8 +16,9 @@ aged copy of its own object, sharing the data images). Printed side by side:
   evaluator of ``TextureAger.age`` (:func:`benchmarks.evaluator._before`, the same
   table) and ``Image.pixels.foreach_set`` + ``update`` of the size's image, measured
   once per size and multiplied by N (its cost is per texel);
-* **apply** — ``api.apply_aging`` now: the numpy evaluator and the pixel write,
-  once per texture, when real aged images are wanted.
+* **apply** — ``api.apply_aging`` now: the numpy evaluator (its blocks on two threads)
+  and the pixel write, once per texture, when real aged images are wanted; CPU time of
+  the process and wall time.
 """
 
 from __future__ import annotations
@@ -142,10 +143,18 @@ def main(argv=None):
         api.apply_aging(scene, 10.0)                 # reads the data images once
         first = time.process_time() - t0
         apply = cpu(lambda k: api.apply_aging(scene, 5.0 + k), repeat=3)
+        walls = []
+        for k in range(3):
+            t0 = time.perf_counter()
+            api.apply_aging(scene, 8.0 + k)
+            walls.append(time.perf_counter() - t0)
+        wall = min(walls)
         api.live_aging(scene)
-        print(f"{size}²: apply_aging {first:.2f} s the first time (data images read), "
-              f"{apply * 1e3:.0f} ms again; old path {old * 1e3:.0f} ms per change: "
-              f"{old / apply:.1f}x")
+        mt = size * size / 1e6
+        print(f"{size}²: apply_aging {first:.2f} s the first time (data images read), then "
+              f"{apply * 1e3:.0f} ms CPU / {wall * 1e3:.0f} ms wall ({wall * 1e3 / mt:.0f} ms "
+              f"per megatexel); the old path {old * 1e3:.0f} ms ({old * 1e3 / mt:.0f} ms per "
+              f"megatexel, one thread) per change: {old / wall:.1f}x wall, {old / apply:.1f}x CPU")
         made = 1
         for n in counts:
             duplicate(scene, floor, n - made + 1) if n > made else None
