@@ -397,3 +397,67 @@ def test_the_group_decodes_24_bit_keys_and_the_table_layout(blender):
                        [(mat, BASE_COLOR, out)], "UVMap", margin=0)["Decode"]
     centres = rgb[1::3, 1::3, 1].ravel()
     np.testing.assert_allclose(-np.log(centres) * 1e5, keys, atol=0.5)
+
+
+def test_an_imported_gltf_model_renders_its_original_pixels_at_zero_years(blender, lf,
+                                                                          tmp_path):
+    """A model as an artist gets it: exported to glTF and imported with Blender's own
+    importer (a tiled texture over UVs 0–4, every face on one UV square, sheen 0.6)."""
+    bpy.ops.mesh.primitive_cube_add(size=1.0)
+    cube = bpy.context.active_object
+    uv = cube.data.uv_layers.active.data
+    for poly in cube.data.polygons:
+        for k, li in enumerate(poly.loop_indices):
+            uv[li].uv = ((0, 0), (4, 0), (4, 4), (0, 4))[k]
+    mat = bpy.data.materials.new("Fabric")
+    if bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    weave = bpy.data.images.new("weave", 64, 64)
+    y, x = np.mgrid[0:64, 0:64]
+    px = np.ones((64, 64, 4), np.float32)
+    px[..., 0] = 0.5 + 0.4 * ((x // 8 + y // 8) % 2)
+    px[..., 1] = 0.2 + 0.3 * (y % 16 < 2)
+    px[..., 2] = 0.3
+    weave.pixels.foreach_set(px.ravel())
+    weave.filepath_raw, weave.file_format = str(tmp_path / "weave.png"), "PNG"
+    weave.save()
+    tex = mat.node_tree.nodes.new("ShaderNodeTexImage")
+    tex.image = weave
+    bsdf = mat.node_tree.nodes["Principled BSDF"]
+    mat.node_tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+    bsdf.inputs["Sheen Weight" if "Sheen Weight" in bsdf.inputs else "Sheen"].default_value = 0.6
+    cube.data.materials.append(mat)
+    bpy.ops.export_scene.gltf(filepath=str(tmp_path / "model.glb"), export_format="GLB")
+    lf.reset_file()
+    import addon_utils
+
+    addon_utils.enable(lf.ADDON, default_set=True)
+    bpy.ops.import_scene.gltf(filepath=str(tmp_path / "model.glb"))
+    obj = next(o for o in bpy.context.scene.objects if o.type == "MESH")
+    fabric = obj.material_slots[0].material
+    fabric.lightfade.enabled = True
+    fabric.lightfade.recipe = "DYED_FABRIC"
+    fabric.lightfade.blue_wool = 2
+    sun = lf.add_sun(strength=20.0)
+    sun.rotation_euler = (0.6, 0.3, 0.4)
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    from mathutils import Vector
+
+    scene.camera.location = (2.2, -2.2, 1.8)
+    scene.camera.rotation_euler = (-Vector(scene.camera.location)).to_track_quat(
+        "-Z", "Y").to_euler()
+    for o in scene.objects:
+        o.select_set(False)
+    before = _render(scene, tmp_path, "before.exr")
+    assert (before.sum(-1) > 0.1).mean() > 0.2
+    _bake_and_age(years=0)
+    assert the_copy(fabric).lightfade.uv_map == "LightFadeUV"       # the made UV map
+    assert np.abs(_render(scene, tmp_path, "zero.exr") - before).max() <= 1e-6
+    from lightfade_addon import api
+
+    api.set_years(scene, 20.0)
+    cube_px = before.sum(-1) > 0.1
+    old = _render(scene, tmp_path, "old.exr")
+    assert np.median(delta_E_2000(lab(old[cube_px] / before.max()),
+                                  lab(before[cube_px] / before.max()))) > 1.0
