@@ -153,6 +153,20 @@ def _camera_and_render_settings(scene):
     scene.render.image_settings.color_depth = "32"
 
 
+def _cube_shot(lf, sun_strength):
+    """A slanted sun and a camera looking at a unit cube at the origin from above a corner."""
+    from mathutils import Vector
+
+    sun = lf.add_sun(strength=sun_strength)
+    sun.rotation_euler = (0.6, 0.3, 0.4)
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    scene.camera.location = (2.2, -2.2, 1.8)
+    scene.camera.rotation_euler = (-Vector(scene.camera.location)).to_track_quat(
+        "-Z", "Y").to_euler()
+    return scene
+
+
 def _render(scene, folder, name):
     scene.render.filepath = str(folder / name)
     bpy.ops.render.render(write_still=True)
@@ -290,15 +304,7 @@ def test_zero_years_is_exact_on_overlapping_out_of_range_uvs_and_procedurals(ble
     mat.lightfade.recipe = "PRINTED_PAPER"
     mat.lightfade.blue_wool = 2
     cube.data.materials.append(mat)
-    sun = lf.add_sun(strength=30.0, theta_deg=30.0)
-    sun.rotation_euler = (0.6, 0.3, 0.4)
-    scene = bpy.context.scene
-    _camera_and_render_settings(scene)
-    from mathutils import Vector
-
-    scene.camera.location = (2.2, -2.2, 1.8)
-    scene.camera.rotation_euler = (-Vector(scene.camera.location)).to_track_quat(
-        "-Z", "Y").to_euler()
+    scene = _cube_shot(lf, sun_strength=30.0)
     scene.render.resolution_x = scene.render.resolution_y = 64
     scene.lightfade.bake_resolution = 64
     before = _render(scene, tmp_path, "before.exr")
@@ -438,15 +444,7 @@ def test_an_imported_gltf_model_renders_its_original_pixels_at_zero_years(blende
     fabric.lightfade.enabled = True
     fabric.lightfade.recipe = "DYED_FABRIC"
     fabric.lightfade.blue_wool = 2
-    sun = lf.add_sun(strength=20.0)
-    sun.rotation_euler = (0.6, 0.3, 0.4)
-    scene = bpy.context.scene
-    _camera_and_render_settings(scene)
-    from mathutils import Vector
-
-    scene.camera.location = (2.2, -2.2, 1.8)
-    scene.camera.rotation_euler = (-Vector(scene.camera.location)).to_track_quat(
-        "-Z", "Y").to_euler()
+    scene = _cube_shot(lf, sun_strength=20.0)
     for o in scene.objects:
         o.select_set(False)
     before = _render(scene, tmp_path, "before.exr")
