@@ -63,6 +63,7 @@ def write(copy, ager, lights, at_bake, restored=False):
         raise AgingError(f"Material '{props.source.name}' on '{props.aged_object.name}' is "
                          f"lit by {len(keys)} light spectra; at most {MAX_SPECTRA} can age "
                          "in one material: give some lamps the same Spectrum")
+    remove(copy)                                  # the previous preparation's images
     H, W = ager.shape[:2]
     key = _image(KEY_PREFIX + copy.name, (W, H), False)
     write_rgba(key, key_pixels(ager.texels.key, (H, W)).astype(np.float32) / 255.0)
@@ -89,7 +90,6 @@ def write(copy, ager, lights, at_bake, restored=False):
         pixels = np.ones((H * W, 4), dtype=np.float32)
         pixels[:, :3] = ager.original.reshape(-1, 3)
         write_rgba(new, pixels)
-    remove(copy)
     props.key_image, props.rate_image, props.table_image, props.restored_image = \
         key, rate, timage, new
 

@@ -20,7 +20,7 @@ import bpy
 import numpy as np
 
 from . import agingdata, runtime
-from .copies import APPLIED_NAME, GROUP_NODE, TREE_TAG, copies_of
+from .copies import APPLIED_NAME, GROUP_NODE, TREE_TAG, copies_of, walk
 from .errors import AgingError, check_years
 from .exposure import exposure_shape, exposure_uv
 from .grids import purge
@@ -60,23 +60,17 @@ def needs_age(scene, copy):
     return ""
 
 
-def find_nodes(tree, name, depth=0):
+def find_nodes(tree, name):
     """Nodes called ``name`` in ``tree`` and the group trees inside it: [(tree, node)]."""
-    if tree is None or depth > 16:
-        return []
-    found = [(tree, tree.nodes[name])] if name in tree.nodes else []
-    for node in tree.nodes:
-        if node.type == "GROUP" and node.node_tree is not None and node.name != GROUP_NODE:
-            found += find_nodes(node.node_tree, name, depth + 1)
-    return found
+    return [(t, n) for t, n in walk(tree) if n.name == name]
 
 
 def _user_image_node(copy):
     """The user's Image Texture node of the direct path (None on the other paths)."""
     props = copy.lightfade
     if props.path == "DIRECT" and props.albedo is not None:
-        return next((n for _t, n in _image_nodes(copy.node_tree) if n.image == props.albedo),
-                    None)
+        return next((n for _t, n in walk(copy.node_tree)
+                     if n.type == "TEX_IMAGE" and n.image == props.albedo), None)
     return None
 
 
@@ -86,18 +80,6 @@ def _extension(copy):
     if node is not None and node.extension in ("REPEAT", "EXTEND", "MIRROR"):
         return node.extension
     return "EXTEND"
-
-
-def _image_nodes(tree, depth=0):
-    if tree is None or depth > 16:
-        return []
-    found = []
-    for node in tree.nodes:
-        if node.type == "TEX_IMAGE":
-            found.append((tree, node))
-        elif node.type == "GROUP" and node.name != GROUP_NODE:
-            found += _image_nodes(node.node_tree, depth + 1)
-    return found
 
 
 def build_group(copy):

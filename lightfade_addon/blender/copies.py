@@ -5,8 +5,7 @@ groups on the way to its colour BSDF) for one object, :func:`assign` puts the co
 that object's slots with ``slot.link = 'OBJECT'`` — so a material shared by a sunny and
 a shaded object, or a mesh shared by linked duplicates, gives each object its own look
 without making anything single user — and :func:`insert_group` puts the aging node
-group between the copy's own Base Color graph and its BSDF (:func:`wire` feeds real
-aged pixels instead, when they are applied).  :func:`remove_copy` puts the slots back exactly (link and
+group between the copy's own Base Color graph and its BSDF.  :func:`remove_copy` puts the slots back exactly (link and
 object-level material) and deletes the copy and the group trees made for it.
 """
 
@@ -21,7 +20,7 @@ AGED_PREFIX = "LF_Aged_"
 GROUP_NODE = "LightFade Aging"
 #: Name of the Image Texture node feeding a restored (new) texture into the group.
 NODE_NAME = "LightFade Restored Albedo"
-#: Name of the Image Texture node feeding applied (real) aged pixels.
+#: Name of the Image Texture node feeding applied (real) aged pixels (:mod:`.apply`).
 APPLIED_NAME = "LightFade Applied Aging"
 #: Custom property tagging node trees copied for a copy (removed with it).
 TREE_TAG = "lightfade_copy"
@@ -145,54 +144,22 @@ def insert_group(copy, colour, group, restored=None):
     return node
 
 
-def wire(copy, colour, image, uv_map, interpolation="Linear", extension="EXTEND"):
-    """Feed ``image`` (sampled with ``uv_map``) into the copy's colour socket: real aged
-    pixels (:func:`..apply.apply_aging`); :func:`rewire_live` puts the group back."""
-    tree, socket = _colour_socket(copy, colour)
-    bsdf = tree.nodes[colour.node]
-    node = tree.nodes.get(APPLIED_NAME)
-    if node is None:
-        node = tree.nodes.new("ShaderNodeTexImage")
-        node.name = node.label = APPLIED_NAME
-        node.location = (bsdf.location.x - 320, bsdf.location.y + 300)
-        uv = tree.nodes.new("ShaderNodeUVMap")
-        uv.name = uv.label = APPLIED_NAME + " UV"
-        uv.location = (node.location.x - 220, node.location.y)
-        tree.links.new(uv.outputs["UV"], node.inputs["Vector"])
-    tree.nodes[APPLIED_NAME + " UV"].uv_map = uv_map
-    node.image = image
-    node.interpolation = interpolation
-    node.extension = extension
-    tree.links.new(node.outputs["Color"], socket)
-
-
-def rewire_live(copy, colour):
-    """The aging group back into the colour socket (after :func:`wire`)."""
-    tree, socket = _colour_socket(copy, colour)
-    node = tree.nodes.get(GROUP_NODE)
-    if node is not None:
-        tree.links.new(node.outputs[0], socket)
-    for name in (APPLIED_NAME, APPLIED_NAME + " UV"):
-        if name in tree.nodes:
-            tree.nodes.remove(tree.nodes[name])
-
-
 def remove_copy(copy):
     """Restore the slots and delete the copy and the node groups copied for it."""
     restore_slots(copy)
-    trees = [n.node_tree for n in _all_group_nodes(copy.node_tree)
-             if n.node_tree is not None and n.node_tree.get(TREE_TAG)]
+    trees = [n.node_tree for _t, n in walk(copy.node_tree)
+             if n.type == "GROUP" and n.node_tree is not None and n.node_tree.get(TREE_TAG)]
     bpy.data.materials.remove(copy)
     for tree in trees:      # private to the copy by construction (Blender 4.2 miscounts users)
         bpy.data.node_groups.remove(tree)
 
 
-def _all_group_nodes(tree, depth=0):
+def walk(tree, depth=0):
+    """Every node of ``tree`` and of the group trees inside it, as (tree, node); the
+    aging group's own nodes are not entered."""
     if tree is None or depth > 16:
-        return []
-    found = []
+        return
     for node in tree.nodes:
-        if node.type == "GROUP" and node.node_tree is not None:
-            found.append(node)
-            found += _all_group_nodes(node.node_tree, depth + 1)
-    return found
+        yield tree, node
+        if node.type == "GROUP" and node.node_tree is not None and node.name != GROUP_NODE:
+            yield from walk(node.node_tree, depth + 1)

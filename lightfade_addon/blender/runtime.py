@@ -24,7 +24,7 @@ from . import agingdata
 from .errors import AgingError
 from .exposure import exposure_signature, lights_and_exposure
 from .grids import SceneGridStore
-from .pixels import read_linear, read_rgba
+from .pixels import read_linear, read_rgba, resample
 from .vocabulary import RECIPE_IDS, SPECTRUM_IDS
 
 #: Smallest prepared range: the slider's soft maximum.
@@ -118,10 +118,6 @@ def albedo_rgba(copy, shape):
     return rgba
 
 
-def _exposure_at(scene, obj, shape):
-    return lights_and_exposure(scene, obj, shape)
-
-
 def prepare(scene, copy, shape, progress=None):
     """Build (or load) the aging of ``copy`` and write its images and node group data.
 
@@ -135,8 +131,8 @@ def prepare(scene, copy, shape, progress=None):
     if obj is None or props.source is None:
         raise AgingError(f"Aged material '{copy.name}' lost its object or source: press Reset")
     rgba = albedo_rgba(copy, shape)
-    lights, exposure = _exposure_at(scene, obj, rgba.shape[:2])
-    _lights, at_bake = _exposure_at(scene, obj, shape)
+    lights, at_bake = lights_and_exposure(scene, obj, shape)     # read once, at the bake's size
+    exposure = np.stack([resample(m, rgba.shape[:2]) for m in at_bake])
     recipe = material_recipe(props.source)
     prior = material_prior(props.source)
     # the node group reads the rates at the bake's resolution: the grid must reach their max

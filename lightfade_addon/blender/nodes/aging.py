@@ -97,13 +97,14 @@ def _mix(g, spec, rates, total):
     empty = 1.0 - total.gt(0.0)                  # no light: all weight on spectrum 0
     w = [rates[0] / total + empty] + [r / total for r in rates[1:]]
     J = S - 1
-    cum, y, base, f = 0.0, [], [], []
+    cum, base, f = 0.0, [], []
     for j in range(J):
         cum = w[j] if j == 0 else cum + w[j]
         yj = (cum * float(q)).clamp(0.0, float(q))
         bj = yj.floor().min(float(q - 1))
-        y.append(yj), base.append(bj), f.append(yj - bj)
-    rank = []
+        base.append(bj)
+        f.append(yj - bj)
+    rank = []                                    # fractions going before coordinate j
     for j in range(J):
         r = 0.0
         for i in range(J):
@@ -116,21 +117,25 @@ def _mix(g, spec, rates, total):
     base_slot = base[0] * radix[0]
     for j in range(1, J):
         base_slot = base[j] * radix[j] + base_slot
-    ordered = []                                 # f_(k): the fraction of rank k
-    for k in range(J):
-        fk = 0.0
-        for j in range(J):
-            is_k = 1.0 - (rank[j] - float(k)).gt(0.5) - (float(k) - rank[j]).gt(0.5) \
-                if J > 1 else 1.0
-            fk = f[j] * is_k + fk if J > 1 else f[j]
-        ordered.append(fk)
+    if J == 1:                                   # one fraction: rank 0
+        ordered = f
+    else:
+        ordered = []                             # f_(k): the fraction of rank k
+        for k in range(J):
+            fk = 0.0
+            for j in range(J):
+                is_k = 1.0 - (rank[j] - float(k)).gt(0.5) - (float(k) - rank[j]).gt(0.5)
+                fk = f[j] * is_k + fk
+            ordered.append(fk)
     out = []
     for k in range(S):
         slot = base_slot
         for j in range(J):
-            if k > 0 and isinstance(rank[j], float):      # one coordinate: rank 0
-                slot = slot + radix[j] * float(rank[j] < k - 0.5)
-            elif k > 0:
+            if k == 0:
+                continue
+            if J == 1:                           # rank 0: on from the second vertex
+                slot = slot + radix[j]
+            else:
                 slot = rank[j].lt(k - 0.5) * radix[j] + slot
         upper = 1.0 if k == 0 else ordered[k - 1]
         lower = 0.0 if k == J else ordered[k]
