@@ -88,14 +88,8 @@ class _ScheduleFields:
     uv_filter: _uv_filter("A UV-blocking filter or film cuts this emitter's light below 400 nm")
     hours_per_day: _hours_per_day("Hours per day this emitter is on (for the sun: hours of "
                                   "direct sun on the scene)")
-    days_per_year: FloatProperty(
-        name="Days per Year",
-        description="Days per year this emitter is on",
-        default=365.0,
-        min=0.0,
-        max=366.0,
-        precision=0,
-    )
+    days_per_year: FloatProperty(name="Days per Year", description="Days per year this emitter "
+                                 "is on", default=365.0, min=0.0, max=366.0, precision=0)
 
 
 class LIGHTFADE_PG_schedule(_ScheduleFields, PropertyGroup):
