@@ -3,6 +3,8 @@
 Usage (from the repository root; about 3 minutes on 2 cores, ``--quick`` under one)::
 
     python benchmarks/shades.py [--quick]
+    python benchmarks/shades.py --timing     # the cost only, each bake twice, alternated
+    python benchmarks/shades.py --seeds      # rug and poster, same seed as a plain bake
 
 A 4 × 4 m room (floor, two walls, ceiling, a sofa), a rug on the floor and a poster on the
 wall, lit by three light groups:
@@ -207,6 +209,23 @@ def blocks(lux, n=8):
     return lux[:h, :h].reshape(n, h // n, n, h // n).mean(axis=(1, 3))
 
 
+def same_seed(targets, quiet):
+    """LightFade and a plain bake of rug and poster with the same seed, per group."""
+    from lightfade_addon.blender.bake import BakeSettings, ExposureBake, bake_exposure
+
+    objs = [o for o in targets if o.name in ("Rug", "Poster")]
+    for seed in (1, 2):
+        settings = BakeSettings(resolution=64, samples=64, margin=2, denoise=False, seed=seed)
+        ours = bake_exposure(bpy.context.scene, objs, settings, **quiet)["maps"]
+        job = ExposureBake(bpy.context.scene, objs, settings, **quiet).plan()
+        plain = plain_bake(job, settings.samples, 0.0)
+        for group, by_obj in plain.items():
+            for name, lux in by_obj.items():
+                lf = pixels(ours[name][group])[..., 0].mean()
+                print(f"seed {seed} {group:<14}{name:<8} LightFade {lf:9.1f}  plain {lux.mean():9.1f}"
+                      f"  {lf / lux.mean() - 1:+.2%}")
+
+
 def timed(fn):
     wall, cpu = time.perf_counter(), time.process_time()
     out = fn()
@@ -216,6 +235,11 @@ def timed(fn):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="64 texels/m, 128-sample reference")
+    parser.add_argument("--seeds", action="store_true",
+                        help="rug and poster at 64 samples, 64², undenoised, against a plain "
+                             "bake with the same seed (1 and 2): bias apart from noise")
+    parser.add_argument("--timing", action="store_true",
+                        help="only the cost: LightFade and the plain bake, alternated twice")
     args = parser.parse_args()
     from lightfade_addon.blender.bake import BakeSettings, ExposureBake, bake_exposure
 
@@ -230,6 +254,18 @@ def main():
           f"{[(g.name, g.member_names) for g in job.groups]}, "
           f"{sum(job.sizes[o.name] ** 2 for o in targets) / 1e6:.2f} M texels; "
           f"LightFade {settings.samples} samples (denoised), reference {ref_samples}")
+    if args.seeds:
+        same_seed(targets, quiet)
+        return
+    if args.timing:
+        cost = np.zeros((2, 2))  # (LightFade, plain) x (wall, CPU)
+        for _ in range(2):
+            cost[0] += timed(lambda: bake_exposure(scene, targets, settings, **quiet))[1:]
+            cost[1] += timed(lambda: plain_bake(job, settings.samples, 0.0))[1:]
+        print(f"two runs each, alternated: LightFade {cost[0, 0]:.1f} s wall, {cost[0, 1]:.1f} s "
+              f"CPU; plain {cost[1, 0]:.1f} s wall, {cost[1, 1]:.1f} s CPU; LightFade / plain: "
+              f"wall {cost[0, 0] / cost[1, 0]:.2f}, CPU {cost[0, 1] / cost[1, 1]:.2f}")
+        return
     result, lf_wall, lf_cpu = timed(lambda: bake_exposure(scene, targets, settings, **quiet))
     _, pl_wall, pl_cpu = timed(lambda: plain_bake(job, settings.samples, 0.0))
     ref = plain_bake(job, ref_samples, 0.0, RECEIVERS, REF_SIZE)
