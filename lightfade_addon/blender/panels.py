@@ -121,7 +121,8 @@ class VIEW3D_PT_lightfade_emitter(LightFadeSidebarMixin, bpy.types.Panel):
                              "(muted there; it still lights renders)", icon="HIDE_ON")
         else:
             schedule = obj.lightfade_emitter
-            layout.label(text="Used if the mesh has an emissive material", icon="INFO")
+            layout.label(text="Emissive materials are not lamps unless counted here "
+                         "(glazing, screens: leave off)", icon="INFO")
         layout.use_property_split = True
         _draw_schedule(layout, schedule)
         _draw_lit_objects(layout.box(), context.scene, obj.name, schedule)

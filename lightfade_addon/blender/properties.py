@@ -9,11 +9,13 @@ Where the data lives
     The light schedule of a lamp or of the sky: spectrum, UV filter, hours per day,
     days per year, and whether the emitter takes part in aging.  It lives on the light
     *data* (shared by instanced lamps) and on the world.
-``Object.lightfade_emitter`` (:class:`LIGHTFADE_PG_schedule`)
-    The same schedule for an emissive mesh (an emissive window pane, a light panel).
-    A mesh counts as an emitter when one of its materials has a non-zero Emission
-    (an Emission node or the Principled BSDF's Emission Strength) and this schedule is
-    enabled (the default).
+``Object.lightfade_emitter`` (:class:`LIGHTFADE_PG_emission`)
+    The same schedule for an emissive mesh (a light panel, a screen, glazing).  A mesh
+    counts as an emitter when one of its materials has a non-zero Emission (an Emission
+    node or the Principled BSDF's Emission Strength, glTF ``emissiveFactor``) *and* the
+    user ticked *Count Emission as Light* (``enabled``, off by default: glazing and
+    screens are not lamps); otherwise its emission is off while baking and the bake
+    report and panel say so, naming the object and material.
 ``Material.lightfade`` (:class:`LIGHTFADE_PG_material`)
     The aging recipe of a material.
 ``Object.lightfade`` and ``Scene.lightfade_bake``
@@ -78,26 +80,40 @@ def _hours_per_day(description):
 # --------------------------------------------------------------------------- groups
 
 
-class LIGHTFADE_PG_schedule(PropertyGroup):
-    """How long and with which spectrum an emitter shines (lamp, world or emissive mesh)."""
+class _ScheduleFields:
+    """What every emitter's schedule holds besides whether it counts."""
+
+    spectrum: _spectrum("Spectral power distribution of this emitter's light (UV content "
+                        "drives much of the fading)", SPECTRUM_ITEMS, "AUTO")
+    uv_filter: _uv_filter("A UV-blocking filter or film cuts this emitter's light below 400 nm")
+    hours_per_day: _hours_per_day("Hours per day this emitter is on (for the sun: hours of "
+                                  "direct sun on the scene)")
+    days_per_year: FloatProperty(name="Days per Year", description="Days per year this emitter "
+                                 "is on", default=365.0, min=0.0, max=366.0, precision=0)
+
+
+class LIGHTFADE_PG_schedule(_ScheduleFields, PropertyGroup):
+    """How long and with which spectrum an emitter shines (lamp or world)."""
 
     enabled: BoolProperty(
         name="Include in Aging",
         description="Bake an exposure map for this emitter and count its light when aging",
         default=True,
     )
-    spectrum: _spectrum("Spectral power distribution of this emitter's light (UV content "
-                        "drives much of the fading)", SPECTRUM_ITEMS, "AUTO")
-    uv_filter: _uv_filter("A UV-blocking filter or film cuts this emitter's light below 400 nm")
-    hours_per_day: _hours_per_day("Hours per day this emitter is on (for the sun: hours of "
-                                  "direct sun on the scene)")
-    days_per_year: FloatProperty(
-        name="Days per Year",
-        description="Days per year this emitter is on",
-        default=365.0,
-        min=0.0,
-        max=366.0,
-        precision=0,
+
+
+class LIGHTFADE_PG_emission(_ScheduleFields, PropertyGroup):
+    """The schedule of a mesh's emissive materials: not a lamp unless the user says so.
+
+    Window glazing, screens and glTF ``emissiveFactor`` make materials emit without being
+    lamps; counting them by default would add a light group next to daylight unasked.
+    """
+
+    enabled: BoolProperty(
+        name="Count Emission as Light",
+        description="Count this mesh's emissive materials as a lamp in the exposure bake "
+                    "(off: their emission is switched off while baking)",
+        default=False,
     )
 
 
@@ -350,6 +366,7 @@ class LIGHTFADE_PG_scene(PropertyGroup):
 
 CLASSES = (
     LIGHTFADE_PG_schedule,
+    LIGHTFADE_PG_emission,
     LIGHTFADE_PG_slot_backup,
     LIGHTFADE_PG_material,
     LIGHTFADE_PG_scene,
@@ -360,7 +377,7 @@ POINTERS = (
     (bpy.types.Scene, "lightfade", LIGHTFADE_PG_scene),
     (bpy.types.Light, "lightfade", LIGHTFADE_PG_schedule),
     (bpy.types.World, "lightfade", LIGHTFADE_PG_schedule),
-    (bpy.types.Object, "lightfade_emitter", LIGHTFADE_PG_schedule),
+    (bpy.types.Object, "lightfade_emitter", LIGHTFADE_PG_emission),
     (bpy.types.Material, "lightfade", LIGHTFADE_PG_material),
 )
 

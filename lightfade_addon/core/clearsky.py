@@ -8,47 +8,43 @@ R. Perez et al., "A new operational model for satellite-derived irradiances: des
 and validation", Solar Energy 73(5), 307-317, 2002.
 J. Remund, L. Wald, M. Lefèvre, T. Ranchin, J. Page, "Worldwide Linke turbidity
 information", Proc. ISES Solar World Congress, Göteborg, 2003 (the climatology pvlib ships
-as ``LinkeTurbidities.h5``).
+as ``LinkeTurbidities.h5``; LightFade bundles it resampled to 1°, ``data/linke_turbidity.npz``,
+made by ``tools/linke_turbidity.py``).
 """
 
 from __future__ import annotations
+
+import functools
+from pathlib import Path
 
 import numpy as np
 
 from .solar import airmass_relative_KastenYoung1989, pressure_from_altitude
 
-__all__ = ["LINKE_TURBIDITY", "LINKE_TURBIDITY_DEFAULT", "linke_turbidity",
-           "clearsky_Ineichen2002"]
+__all__ = ["CLIMATOLOGY_FILE", "linke_turbidity", "clearsky_Ineichen2002"]
 
-#: Monthly Linke turbidity (January..December) at the :data:`.daylight.PLACES` presets,
-#: keyed by (latitude, longitude).  Read from the Remund et al. (2003) climatology in
-#: pvlib 0.16.1's ``pvlib/data/LinkeTurbidities.h5`` with
-#: ``pvlib.clearsky.lookup_linke_turbidity(t, lat, lon, interp_turbidity=False)`` on the
-#: 15th of each month; tests/core/test_daylight.py checks these numbers against that file.
-LINKE_TURBIDITY = {
-    (51.5074, -0.1278): (3.35, 4.35, 3.95, 3.65, 4.6, 4.95, 4.4, 4.3, 3.85, 3.45, 3.1, 3.15),
-    (52.3676, 4.9041): (2.55, 3.5, 3.2, 3.35, 3.75, 4.0, 4.5, 4.0, 3.6, 2.45, 2.75, 2.7),
-    (40.4168, -3.7038): (3.2, 2.9, 3.3, 3.5, 3.95, 3.85, 4.2, 3.9, 3.7, 3.5, 3.05, 3.05),
-    (40.7128, -74.006): (2.45, 2.7, 3.05, 3.5, 3.8, 3.85, 3.95, 3.25, 2.9, 2.65, 2.3, 2.25),
-    (-33.8688, 151.2093): (2.85, 2.8, 2.65, 2.6, 2.45, 2.5, 2.65, 2.7, 2.85, 2.7, 2.85, 3.15),
-    (1.2903, 103.8519): (4.65, 5.3, 5.05, 4.8, 5.0, 4.75, 4.8, 5.55, 5.3, 4.8, 4.9, 4.45),
-    (30.0444, 31.2357): (4.6, 4.5, 4.85, 5.25, 4.3, 5.05, 5.85, 5.5, 5.3, 5.3, 4.3, 3.9),
-    (64.1466, -21.9426): (2.0, 2.0, 2.0, 2.15, 2.45, 2.1, 2.25, 2.2, 2.1, 2.1, 2.05, 2.05),
-}
+#: The worldwide monthly climatology: ``tl20`` uint8 (12, H, W), 20 × T_L on cells of
+#: ``step_deg`` degrees, written by ``tools/linke_turbidity.py`` from pvlib's
+#: ``LinkeTurbidities.h5`` (Remund et al. 2003; source and licence inside the file).
+CLIMATOLOGY_FILE = Path(__file__).parent / "data" / "linke_turbidity.npz"
 
-#: Linke turbidity for places away from the presets: 3.5, the median of the preset
-#: months above (a moderately turbid mid-latitude sky; Remund et al. 2003, fig. 1).
-LINKE_TURBIDITY_DEFAULT = 3.5
+
+@functools.lru_cache(maxsize=1)
+def _climatology():
+    """``(T_L (12, H, W) float, cell size in degrees)`` read once from the bundled file."""
+    with np.load(CLIMATOLOGY_FILE) as data:
+        return data["tl20"].astype(float) / 20.0, float(data["step_deg"])
 
 
 def linke_turbidity(latitude, longitude, month):
-    """Linke turbidity (air mass 2) of a month at a place.
+    """Monthly Linke turbidity (air mass 2) at any place on Earth.
 
     Parameters
     ----------
-    latitude, longitude : float
-        Degrees.  A place within 0.5° of a preset uses that preset's monthly values,
-        any other place :data:`LINKE_TURBIDITY_DEFAULT`.
+    latitude : float
+        Degrees north, -90..90.
+    longitude : float
+        Degrees east (any value; wrapped).
     month : array_like of int
         1..12.
 
@@ -56,12 +52,30 @@ def linke_turbidity(latitude, longitude, month):
     -------
     numpy.ndarray
         Linke turbidity, dimensionless, shaped like ``month``.
+
+    Notes
+    -----
+    Bilinear interpolation in latitude and longitude between the centres of the
+    climatology's cells (longitude wraps at ±180°, latitude is held at the outermost row
+    near the poles); one value per month, as pvlib's
+    ``lookup_linke_turbidity(..., interp_turbidity=False)``.
+
+    Examples
+    --------
+    >>> linke_turbidity(52.52, 13.405, [1, 7]).round(2)   # Berlin, January and July
+    array([2.85, 3.87])
     """
+    tl, step = _climatology()
     month = np.asarray(month, dtype=int)
-    for (lat, lon), table in LINKE_TURBIDITY.items():
-        if abs(lat - latitude) <= 0.5 and abs((lon - longitude + 180) % 360 - 180) <= 0.5:
-            return np.asarray(table, dtype=float)[month - 1]
-    return np.full(month.shape, LINKE_TURBIDITY_DEFAULT)
+    h, w = tl.shape[1:]
+    y = np.clip((90.0 - float(latitude)) / step - 0.5, 0.0, h - 1.0)
+    x = (float(longitude) + 180.0) / step - 0.5
+    y0, x0 = min(int(np.floor(y)), h - 2), int(np.floor(x))
+    fy, fx = y - y0, x - x0
+    rows, cols = (y0, y0 + 1), (x0 % w, (x0 + 1) % w)
+    m = month - 1
+    return ((1 - fy) * ((1 - fx) * tl[m, rows[0], cols[0]] + fx * tl[m, rows[0], cols[1]])
+            + fy * ((1 - fx) * tl[m, rows[1], cols[0]] + fx * tl[m, rows[1], cols[1]]))
 
 
 def clearsky_Ineichen2002(apparent_zenith, linke_turbidity, altitude, dni_extra):

@@ -134,6 +134,7 @@ class TestBakeExposure:
         bsdf.inputs["Emission Color"].default_value = (1, 1, 1, 1)
         bsdf.inputs["Emission Strength"].default_value = 5.0
         panel.data.materials.append(mat)
+        panel.lightfade_emitter.enabled = True  # an emissive mesh counts once asked to
         panel.lightfade_emitter.hours_per_day = 4.0  # its own group (the sun has 8 h)
         before = snapshot()
         result = bake_exposure(bpy.context.scene, [floor_scene["floor"]], SMALL)

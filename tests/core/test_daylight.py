@@ -240,16 +240,6 @@ class TestClearSky:
             for ours, key in ((ghi, "ghi"), (dni, "dni"), (dhi, "dhi")):
                 np.testing.assert_allclose(ours, ref[key], rtol=1e-9, atol=1e-9)
 
-    def test_linke_table_is_pvlibs_climatology(self, pvlib):
-        import pandas as pd
-
-        from lightfade_addon.core.clearsky import LINKE_TURBIDITY
-
-        times = pd.date_range("2025-01-15", periods=12, freq="MS", tz="UTC") + pd.Timedelta(days=14)
-        for (lat, lon), table in LINKE_TURBIDITY.items():
-            ref = pvlib.clearsky.lookup_linke_turbidity(times, lat, lon, interp_turbidity=False)
-            np.testing.assert_allclose(table, ref.to_numpy(), atol=1e-9)
-
 
 class TestPerez:
     def test_sky_diffuse_on_planes_matches_pvlib(self, pvlib):

@@ -1,6 +1,8 @@
 """Emitters of a scene and their light groups.
 
-An emitter is a lamp, the world, or a mesh with an emissive material.  Emitters with the
+An emitter is a lamp, the world, or a mesh with an emissive material whose owner opted in
+(*Count Emission as Light*; glazing, screens and glTF emission are not lamps by default,
+and their emission is off while baking).  Emitters with the
 same spectrum, UV filter and schedule form one light group and are baked into one map:
 their doses add linearly (reciprocity), so one map per group carries all the information
 aging needs.
@@ -68,6 +70,33 @@ def _is_emissive_mesh(obj):
     return obj.type == "MESH" and any(emission_sockets(s.material) for s in obj.material_slots)
 
 
+def uncounted_emissive(scene, view_layer=None):
+    """Meshes whose materials emit but that are not counted as lamps: ``[(object,
+    [material names])]`` (visible to render; *Count Emission as Light* off)."""
+    view_layer = view_layer or scene.view_layers[0]
+    found = []
+    for obj in scene.objects:
+        if obj.type != "MESH" or obj.hide_render or obj.name not in view_layer.objects \
+                or obj.lightfade_emitter.enabled:
+            continue
+        names = [s.material.name for s in obj.material_slots if emission_sockets(s.material)]
+        if names:
+            found.append((obj, list(dict.fromkeys(names))))
+    return found
+
+
+def uncounted_note(found, limit=3):
+    """One line naming the uncounted emissive meshes (at most ``limit``) and how to count
+    them, or ``""``."""
+    if not found:
+        return ""
+    names = ", ".join(f"\"{obj.name}\" ({', '.join(mats)})" for obj, mats in found[:limit])
+    more = f" and {len(found) - limit} more" if len(found) > limit else ""
+    return (f"Emissive, not counted as lamps (emission off while baking): {names}{more}; "
+            "to count one, select it and tick LightFade > Light Schedule > "
+            "Count Emission as Light")
+
+
 def world_emits(world):
     """The world's Background shader gives light."""
     if world is None or world.node_tree is None:
@@ -93,7 +122,9 @@ def find_emitters(scene, view_layer=None):
     """The emitters of ``scene`` that take part in aging.
 
     Lamps with non-zero power, visible to render and with ``Light.lightfade.enabled``;
-    meshes with an emissive material and ``Object.lightfade_emitter.enabled``; the world
+    meshes with an emissive material and ``Object.lightfade_emitter.enabled`` (off by
+    default: an emissive material is not a lamp unless the user says so,
+    :func:`uncounted_emissive`); the world
     when :func:`world_counts`.  With annual daylight (:mod:`.daylight`), the sun lamps and
     the world standing for daylight give way to one ``"Daylight"`` emitter.
 

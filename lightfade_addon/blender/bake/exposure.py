@@ -25,7 +25,7 @@ from . import daylight as _daylight
 from . import denoise as _denoise
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
-from .emitters import group_emitters, find_emitters, isolate
+from .emitters import group_emitters, find_emitters, isolate, uncounted_emissive, uncounted_note
 from .maps import members, prune_maps, store_map
 from .presets import PRESETS
 from .state import BakeState
@@ -132,11 +132,16 @@ class ExposureBake:
         for msg in warnings:
             self._warn(msg)
         emitters = find_emitters(scene, layer)
+        uncounted = uncounted_note(uncounted_emissive(scene, layer))
+        if uncounted:
+            self.notes.append(uncounted)
+            self.report(uncounted)
         if any(e.kind == "DAYLIGHT" for e in emitters) and _daylight.problem(scene):
             problems.append(_daylight.problem(scene))
         if not emitters:
             problems.append(
-                "No emitters in the scene: add a lamp or an emissive mesh, or give the world a "
+                "No emitters in the scene: add a lamp, count an emissive mesh (Count Emission as "
+                "Light), or give the world a "
                 "spectrum (Sky Schedule), and keep their LightFade 'Include in Aging' on")
         depsgraph = bpy.context.evaluated_depsgraph_get()
         self.sizes, self.uv_plans = {}, {}

@@ -8,7 +8,7 @@ import bpy
 from ...output import plural
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, luminance
-from .emitters import find_emitters, group_emitters, world_counts
+from .emitters import find_emitters, group_emitters, uncounted_emissive, uncounted_note, world_counts
 from .exposure import BakeSettings
 from .presets import PRESETS
 from .targets import find_targets, validate_targets
@@ -78,6 +78,9 @@ def _draw_groups(layout, scene, emitters):
         box.label(text=f"World: {world_lux(world):,.0f} lx on open ground", icon="WORLD")
     elif world is not None:
         box.label(text="World not counted: give it a spectrum (Sky Schedule)", icon="INFO")
+    note = uncounted_note(uncounted_emissive(scene), limit=2)
+    if note:
+        box.label(text=note, icon="INFO")
     return groups
 
 

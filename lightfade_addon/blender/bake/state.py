@@ -34,7 +34,8 @@ _BAKE_KEYS = ("margin", "margin_type", "use_clear", "use_selected_to_active", "t
               "use_pass_direct", "use_pass_indirect", "use_pass_color", "use_cage",
               "cage_extrusion", "max_ray_distance", "normal_space", "save_mode")
 _CYCLES_KEYS = ("device", "samples", "use_adaptive_sampling", "use_denoising", "bake_type",
-                "time_limit", "seed", "use_animated_seed")
+                "time_limit", "seed", "use_animated_seed", "sample_clamp_direct",
+                "sample_clamp_indirect")
 
 
 class BakeState(Undo):
@@ -111,6 +112,13 @@ class BakeState(Undo):
         """Cycles CPU, DIFFUSE pass with direct and indirect light and no colour, into
         the active Image Texture nodes, kept in memory: the one place bake options are set.
 
+        Sample clamping is off: Cycles clamps a path's contribution *before* the pass is
+        divided by the surface's colour, and a baked texel is white (:mod:`.surface`), so
+        the scene's clamp (Blender's default: 10 on indirect light) would cut the rare
+        bright paths through a lampshade or glass at 10 where a plain bake of a surface of
+        colour ``c`` cuts them at ``10 / c``; without a clamp both are the unbiased
+        irradiance (``docs/bake.md``, "Light through shades").
+
         The bake operator does not take its pass filter from the scene, so the type and
         pass filter are also kept for :meth:`bake`."""
         scene = self.scene
@@ -123,6 +131,8 @@ class BakeState(Undo):
             (cycles, "time_limit", 0.0),
             (cycles, "seed", int(seed)),
             (cycles, "use_animated_seed", False),
+            (cycles, "sample_clamp_direct", 0.0),
+            (cycles, "sample_clamp_indirect", 0.0),
             (cycles, "bake_type", "DIFFUSE"),
             (bake, "margin", int(margin)),
             (bake, "margin_type", "EXTEND"),
