@@ -59,6 +59,19 @@ WOODS = {
     "steamed beech": (170, 131, 108), "cherry": (160, 115, 83), "mahogany": (128, 86, 68),
 }
 
+def sweep(n=240, seed=25):
+    """Random sRGB colours (0..255), split by CIELAB chroma: (neutrals C* < 10, chromatic
+    C* >= 15); colours the named palettes do not cover."""
+    rgb = np.random.default_rng(seed).integers(0, 256, (n, 3))
+    # half of them near the grey axis, where on-tone fading is hardest
+    grey = rgb[: n // 2].mean(axis=1, keepdims=True)
+    rgb[: n // 2] = np.clip(grey + (rgb[: n // 2] - grey) * 0.12, 0, 255).round()
+    C = chroma(lab_of(rgb))
+    neutral = {f"n{i}": tuple(int(v) for v in c) for i, c in enumerate(rgb[C < 10])}
+    chromatic = {f"c{i}": tuple(int(v) for v in c) for i, c in enumerate(rgb[C >= 15])}
+    return neutral, chromatic
+
+
 YEARS = np.concatenate([[0.0], np.geomspace(0.02, 2000.0, 160)])
 
 
@@ -149,6 +162,26 @@ def _print_fabric_table(name, colours, rows, neutral):
           f"lowest dL* on the way {min(r['dL_min'] for r in rows):.2f} (limit > 0)")
 
 
+def _worst(rows, colours, key):
+    k = max(range(len(rows)), key=lambda i: rows[i][key])
+    return rows[k][key], list(colours.items())[k]
+
+
+def fabric_and_paint_sweep(exact):
+    neutral, chromatic = sweep()
+    print(f"\nsweep: {len(neutral)} random neutrals (C*ab < 10), {len(chromatic)} random "
+          f"chromatic colours (C*ab >= 15); worst of each, with the colour (sRGB)")
+    for name in ("dyed-fabric", "painted-wood"):
+        rn = fade_metrics(age_palette(neutral, RECIPES[name], exact=exact))
+        rc = fade_metrics(age_palette(chromatic, RECIPES[name], exact=exact))
+        (a, ca), (b, cb) = _worst(rn, neutral, "dC5"), _worst(rn, neutral, "dC12")
+        (c, cc), (d, cd) = _worst(rc, chromatic, "dh5"), _worst(rc, chromatic, "dh12")
+        low = min(r["dL_min"] for r in rn + rc)
+        print(f"  {name}: neutrals dC*ab {a:.1f} @5 {ca[1]} (limit 4), {b:.1f} @12 {cb[1]} "
+              f"(limit 6); chromatic |dh| {c:.1f} @5 {cc[1]} (limit 20), {d:.1f} @12 {cd[1]} "
+              f"(limit 30); lowest dL* {low:.2f}")
+
+
 def fabric_and_paint(exact):
     years5 = {}
     for name in ("dyed-fabric", "painted-wood"):
@@ -208,6 +241,7 @@ def main(argv=None):
           f"{'exact (direct simulation)' if args.exact else 'grid (age-image)'}")
     if "fabric" in args.part:
         fabric_and_paint(args.exact)
+        fabric_and_paint_sweep(args.exact)
     if "paper" in args.part:
         printed_paper(args.exact)
     if "wood" in args.part:

@@ -105,8 +105,10 @@ class Recipe:
         neutral under the calibration light, as fast as the recipe's first colourant
         (the reference) of class ``k``, so that colourants of one class fade together and a neutral built
         from them fades on tone (dyers' trichromats of matched fastness).
-    kinetics : {"first-order", "paper"}
-        The rate law (:func:`.fading.simulate`); first-order by default.
+    kinetics : {"first-order", "paper", "shared"}
+        The rate law (:func:`.fading.simulate`); first-order by default. Dyes and
+        inks in one medium use ``"shared"`` (photosensitised fading: colourants of
+        one class lose the same fraction whatever the mixture).
     thickness, layers, steps, scheme
         Medium thickness and solver settings (defaults: the accuracy study's choice).
     description : str
@@ -385,25 +387,31 @@ RECIPES = {r.name: r for r in (
         description="Print or poster on paper: yellow and magenta fade first, greys go "
                     "blue (cyan lasts)",
         colourants=CMY, substrate="paper", unmixed=CMY, calibration="rate",
+        kinetics="shared",
         blue_wool=(5.0, 3.5, 3.0)),
     Recipe(
         name="dyed-fabric",
         description="Dyed textile, rug or curtain: dyes of matched fastness, colours fade "
                     "on tone (lighter, duller)",
         colourants=CMY, substrate="fabric", unmixed=CMY, calibration="rate",
+        kinetics="shared",
         blue_wool=(4.0, 4.0, 4.0)),
     Recipe(
         name="painted-wood",
         description="Painted furniture or woodwork: lightfast pigments over a white ground, "
                     "fade on tone, about 9x slower than fabric",
         colourants=CMY, substrate="white-ground", unmixed=CMY, calibration="rate",
+        kinetics="shared",
         blue_wool=(6.0, 6.0, 6.0)),
     Recipe(
         name="bare-wood",
-        description="Unfinished wood or newsprint: lignin yellows into quinones in UV light",
-        colourants=("lignin", "quinone"), substrate="wood", unmixed=(),
-        fixed=(("lignin", 0.5),), yields=(("lignin", "quinone", 0.6),),
-        blue_wool=(2.0, None), calibration_uv_filter=False),
+        description="Unfinished wood: pale woods darken, redden and yellow (lignin to "
+                    "quinones), dark woods lighten (brown extractives bleach); most change "
+                    "in the first year",
+        colourants=("lignin", "quinone", "extractive"), substrate="wood",
+        unmixed=("extractive",), fixed=(("lignin", 1.0),),
+        yields=(("lignin", "quinone", 0.3),),
+        blue_wool=(1.0, None, 2.8), calibration_uv_filter=False),
 )}
 
 

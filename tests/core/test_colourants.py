@@ -17,7 +17,7 @@ from lightfade_addon.core.colourants import (
 from lightfade_addon.core.kubelka import kubelka_layer, over_ground
 from lightfade_addon.core.spectra import WAVELENGTHS
 
-COLOURANTS = ["cyan", "lignin", "magenta", "quinone", "yellow"]
+COLOURANTS = ["cyan", "extractive", "lignin", "magenta", "quinone", "yellow"]
 SUBSTRATES = ["fabric", "paper", "white-ground", "wood"]
 
 #: ISO 12647-2 coated-paper primaries (CIELAB D50) and the Delta E*ab documented in
