@@ -215,19 +215,20 @@ def printed_paper(exact):
 
 def bare_wood(exact, dose=22e6):
     years = dose / LIGHT.annual_dose
-    labs = age_palette(WOODS, RECIPES["bare-wood"], years=np.array([0.0, years / 8,
-                                                                    years / 2, years]),
-                       exact=exact)
+    steps = np.concatenate([[0.0], years * np.geomspace(1 / 64, 1, 25)])
+    labs = age_palette(WOODS, RECIPES["bare-wood"], years=steps, exact=exact)
+    eighth = int(np.argmin(np.abs(steps - years / 8)))
     print(f"\nbare-wood at {dose / 1e6:g} Mlx·h of daylight through glass "
           f"(pale: dL* -13..-2, da* +1..+8, db* +5..+14, dE*ab 7..22; dark: dL* >= 0)")
     print(f"  {'wood':<14} {'L*':>5} {'a*':>5} {'b*':>5}  {'dL*':>6} {'da*':>6} {'db*':>6}"
-          f" {'dE*ab':>6} {'dE at 1/8':>9}")
+          f" {'dE*ab':>6} {'dE at 1/8':>9} {'min dL* on the way':>18}")
     for n, w in enumerate(WOODS):
         d = labs[-1, n] - labs[0, n]
         e = delta_E_ab(labs[0, n], labs[-1, n])
-        e8 = delta_E_ab(labs[0, n], labs[1, n])
+        e8 = delta_E_ab(labs[0, n], labs[eighth, n])
+        low = (labs[1:, n, 0] - labs[0, n, 0]).min()
         print(f"  {w:<14} {labs[0, n, 0]:5.1f} {labs[0, n, 1]:5.1f} {labs[0, n, 2]:5.1f}  "
-              f"{d[0]:6.1f} {d[1]:6.1f} {d[2]:6.1f} {e:6.1f} {e8:9.1f}")
+              f"{d[0]:6.1f} {d[1]:6.1f} {d[2]:6.1f} {e:6.1f} {e8:9.1f} {low:18.2f}")
 
 
 def main(argv=None):

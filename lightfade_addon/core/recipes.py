@@ -411,7 +411,7 @@ RECIPES = {r.name: r for r in (
         colourants=("lignin", "quinone", "extractive"), substrate="wood",
         unmixed=("extractive",), fixed=(("lignin", 1.0),),
         yields=(("lignin", "quinone", 0.3),),
-        blue_wool=(1.0, None, 2.8), calibration_uv_filter=False),
+        blue_wool=(1.0, None, 2.7), calibration_uv_filter=False),
 )}
 
 
