@@ -15,6 +15,7 @@ colour, the paper's reference "without selective interpolation"). See
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import os
 import pathlib
@@ -83,6 +84,12 @@ def add_arguments(parser):
                             "photosensitised), first-order (each dye molecule fades at its "
                             "own rate) or paper (equation 3 as printed, fade rate ~ "
                             "concentration²)")
+    model.add_argument("--fastness", action="append", default=[], type=_fastness,
+                       metavar="COLOURANT=CLASS",
+                       help="give one colourant of the recipe another ISO Blue Wool class "
+                            "(1 very fugitive - 8 very stable), e.g. --fastness yellow=2 "
+                            "for a fugitive yellow dye; repeat for others (the recipe's "
+                            "classes: docs/recipes.md)")
     model.add_argument("--restore", metavar="YEARS", type=number("years"),
                        help="the photo is already YEARS old under the light and schedule "
                             "given: first estimate it new (writes PHOTO_restored and "
@@ -95,6 +102,20 @@ def add_arguments(parser):
 
 
 # -- parsing ---------------------------------------------------------------------------
+
+
+def _fastness(text):
+    """argparse ``type=`` of one ``--fastness`` word: ``(colourant, class)``."""
+
+    name, sep, value = text.partition("=")
+    try:
+        k = float(value)
+    except ValueError:
+        k = float("nan")
+    if not sep or not name or not 1.0 <= k <= 8.0:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: expected COLOURANT=CLASS with a Blue Wool class 1-8, e.g. yellow=2")
+    return name.strip(), k
 
 _non_negative_years = number("years")
 
@@ -201,6 +222,11 @@ def run(args):
     recipe = RECIPES[args.recipe]
     if args.kinetics is not None:
         recipe = dataclasses.replace(recipe, kinetics=args.kinetics)
+    if args.fastness:
+        try:
+            recipe = recipe.with_classes(dict(args.fastness))
+        except ValueError as exc:
+            raise UserError(f"--fastness: {exc}") from None
 
     photo = pathlib.Path(args.photo)
     rgb, alpha, info = _read(photo)

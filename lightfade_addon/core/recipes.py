@@ -250,6 +250,34 @@ class Recipe:
         return replace(self, beta=None, blue_wool=tuple(
             None if k is None else float(np.clip(k + shift, 1.0, 8.0)) for k in self.blue_wool))
 
+    def with_classes(self, classes):
+        """The recipe with some colourants at other Blue Wool classes (a fugitive dye).
+
+        Parameters
+        ----------
+        classes : mapping of str to float
+            Colourant name -> ISO Blue Wool class (1-8), e.g. ``{"yellow": 2}``: that
+            dye fades as fast as a class-2 one while the others keep theirs.
+
+        Raises
+        ------
+        ValueError
+            An unknown colourant, one whose sensitivity is not given as a class (a
+            product such as quinone), or a class outside 1-8.
+        """
+        new = list(self.blue_wool)
+        for name, k in classes.items():
+            if name not in self.colourants:
+                raise ValueError(f"recipe {self.name!r} has no colourant {name!r}; its "
+                                 f"colourants: {', '.join(self.colourants)}")
+            j = self.index(name)
+            if new[j] is None:
+                raise ValueError(f"colourant {name!r} of recipe {self.name!r} does not fade "
+                                 f"by itself (it is formed by light): no class to set")
+            blue_wool_dose(k)
+            new[j] = float(k)
+        return replace(self, beta=None, blue_wool=tuple(new))
+
     def with_beta(self, beta):
         """The recipe with its most sensitive colourant at ``beta``, the others scaled."""
         b = self.sensitivity()
