@@ -159,7 +159,7 @@ def _print_fabric_table(name, colours, rows, neutral):
     w5 = max(r[k + "5"] for r in rows)
     w12 = max(r[k + "12"] for r in rows)
     print(f"  worst: {w5:.1f} (limit {lim[0]}), {w12:.1f} (limit {lim[1]}); "
-          f"lowest dL* on the way {min(r['dL_min'] for r in rows):.2f} (limit > 0)")
+          f"lowest dL* on the way {min(r['dL_min'] for r in rows):.3f} (limit > 0)")
 
 
 def _worst(rows, colours, key):
@@ -179,7 +179,7 @@ def fabric_and_paint_sweep(exact):
         low = min(r["dL_min"] for r in rn + rc)
         print(f"  {name}: neutrals dC*ab {a:.1f} @5 {ca[1]} (limit 4), {b:.1f} @12 {cb[1]} "
               f"(limit 6); chromatic |dh| {c:.1f} @5 {cc[1]} (limit 20), {d:.1f} @12 {cd[1]} "
-              f"(limit 30); lowest dL* {low:.2f}")
+              f"(limit 30); lowest dL* {low:.3f}")
 
 
 def fabric_and_paint(exact):
