@@ -34,6 +34,7 @@ __all__ = [
     "RECIPES",
     "get_recipe",
     "blue_wool_dose",
+    "fastness_text",
     "beta_from_blue_wool",
     "matched_rates",
     "JND_DELTA_E",
@@ -441,6 +442,23 @@ RECIPES = {r.name: r for r in (
         yields=(("lignin", "quinone", 0.3),),
         blue_wool=(1.0, None, 2.7), calibration_uv_filter=False),
 )}
+
+
+def fastness_text(recipe):
+    """Each colourant's Blue Wool class on one line, for the UI.
+
+    Colourants formed by light (no class) are left out; a recipe given by ``beta``
+    says so.
+
+    Examples
+    --------
+    >>> fastness_text(RECIPES["printed-paper"])
+    'cyan 5 · magenta 3.5 · yellow 3'
+    """
+    if recipe.beta is not None:
+        return "sensitivity given as beta"
+    return " · ".join(f"{name} {k:g}" for name, k in zip(recipe.colourants, recipe.blue_wool)
+                      if k is not None)
 
 
 def get_recipe(name):

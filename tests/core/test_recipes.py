@@ -9,7 +9,7 @@ from lightfade_addon.core.colorimetry import delta_E_ab, reflectance_to_Lab
 from lightfade_addon.core.spectra import WAVELENGTHS, light_spectrum
 from lightfade_addon.core.recipes import (
     JND_DELTA_E, MATCHING_LIGHT, RATE_REFERENCE, RECIPES, Recipe, _calibration_fade,
-    blue_wool_dose, get_recipe, matched_rates)
+    blue_wool_dose, fastness_text, get_recipe, matched_rates)
 
 
 class TestBlueWoolDose:
@@ -145,6 +145,26 @@ class TestCalibration:
         b = r.sensitivity()
         b2 = r.with_beta(2 * b.max()).sensitivity()
         np.testing.assert_allclose(b2, 2 * b)
+
+
+class TestWithClasses:
+    def test_one_dye_made_fugitive(self):
+        r = RECIPES["dyed-fabric"].with_classes({"yellow": 2})
+        assert r.blue_wool == (4.0, 4.0, 2.0)
+        beta = r.sensitivity()
+        assert beta[2] > 5 * beta[0] and beta[0] == pytest.approx(beta[1])
+        assert fastness_text(r) == "cyan 4 · magenta 4 · yellow 2"
+
+    def test_products_and_unknown_names_are_refused(self):
+        with pytest.raises(ValueError, match="formed by light"):
+            RECIPES["bare-wood"].with_classes({"quinone": 3})
+        with pytest.raises(ValueError, match="no colourant 'green'"):
+            RECIPES["dyed-fabric"].with_classes({"green": 3})
+        with pytest.raises(ValueError, match="Blue Wool"):
+            RECIPES["dyed-fabric"].with_classes({"cyan": 9})
+
+    def test_fastness_text_leaves_out_products(self):
+        assert fastness_text(RECIPES["bare-wood"]) == "lignin 1 · extractive 2.7"
 
 
 def test_unknown_recipe_lists_the_valid_ones():
