@@ -113,7 +113,7 @@ def _dresser(coll, res):
             knobs.append((kx, y0 - 0.015, z0 + dh / 2))
     quads = [q for lo, hi, skip in boxes for q in box_quads(lo, hi, skip)]
     img = C.image_from_array("Dresser_Paint", T.painted_wood((res, res), (0.10, 0.47, 0.50)))
-    mat = C.aging_material("Dresser_Paint", img, "painted-wood", blue_wool=4, roughness=0.4, specular=0.5)
+    mat = C.aging_material("Dresser_Paint", img, "painted-wood", blue_wool=6, roughness=0.4, specular=0.5)
     dresser = mesh_from_quads("Dresser", quads, coll, mat, gap=4.0 / res)
     brass = C.plain_material("Brass", (0.8, 0.55, 0.25), 0.3, metallic=1.0)
     for k, (kx, ky, kz) in enumerate(knobs):

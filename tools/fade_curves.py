@@ -30,7 +30,8 @@ MAX_DOSE = 20e6
 
 
 def curves(kinetics, level):
-    recipe = dataclasses.replace(get_recipe("printed-paper"), kinetics=kinetics)
+    recipe = dataclasses.replace(get_recipe("printed-paper").with_classes({"magenta": 2}),
+                                 kinetics=kinetics)
     c = recipe.concentrations([[0.0, level, 0.0]])
     doses = np.linspace(MAX_DOSE / 40, MAX_DOSE, 40)
     r = recipe.simulate(c, light_spectrum("daylight-glass"), MAX_DOSE, record=doses)

@@ -3,7 +3,7 @@ Material Properties."""
 
 import bpy
 
-from ..core.recipes import RECIPES, blue_wool_dose
+from ..core.recipes import RECIPES, blue_wool_dose, fastness_text
 from .apply import aged_copies
 from .copies import original
 from .vocabulary import RECIPE_IDS
@@ -12,6 +12,7 @@ from .bake.daylight import stands_for_daylight
 from .bake.panel import draw_bake_panel
 from .stats import annual_dose, emitter_schedule, image_max
 from .status import copy_status
+from .runtime import material_recipe
 from .years import YEARS_PROP
 from ..output import plural
 
@@ -196,6 +197,7 @@ class MATERIAL_PT_lightfade(bpy.types.Panel):
             layout.prop(props, "blue_wool")
             dose = blue_wool_dose(props.blue_wool) / 1e6
             layout.label(text=f"Just-noticeable fade after ~{dose:.3g} Mlx·h of UV-free light")
+            layout.label(text=f"Per colourant: {fastness_text(material_recipe(material))}")
         else:
             layout.prop(props, "beta")
         layout.prop(props, "already_years")

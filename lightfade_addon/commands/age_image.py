@@ -15,6 +15,7 @@ colour, the paper's reference "without selective interpolation"). See
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 import os
 import pathlib
@@ -36,6 +37,7 @@ _LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
 
 def add_arguments(parser):
     """The options, in groups: input and output, the light, the model."""
+    from ..core.fading import KINETICS
     from ..core.recipes import RECIPES
     from ..core.spectra import LIGHTS
 
@@ -76,10 +78,18 @@ def add_arguments(parser):
     model.add_argument("--recipe", default=d["recipe"], choices=list(RECIPES), metavar="NAME",
                        help=f"material recipe (default: {d['recipe']}); one of: "
                             + "; ".join(f"{k} ({r.description})" for k, r in RECIPES.items()))
-    model.add_argument("--kinetics", default="first-order", choices=("first-order", "paper"),
-                       help="rate law of the fading: first-order (default; each dye "
-                            "molecule fades at its own rate, as in conservation practice) "
-                            "or paper (equation 3 as printed, fade rate ~ concentration²)")
+    model.add_argument("--kinetics", default=None, choices=KINETICS,
+                       help="rate law of the fading (default: the recipe's own, see "
+                            "docs/recipes.md): shared (dyes in one medium fade together, "
+                            "photosensitised), first-order (each dye molecule fades at its "
+                            "own rate) or paper (equation 3 as printed, fade rate ~ "
+                            "concentration²)")
+    model.add_argument("--fastness", action="append", default=[], type=_fastness,
+                       metavar="COLOURANT=CLASS",
+                       help="give one colourant of the recipe another ISO Blue Wool class "
+                            "(1 very fugitive - 8 very stable), e.g. --fastness yellow=2 "
+                            "for a fugitive yellow dye; repeat for others (the recipe's "
+                            "classes: docs/recipes.md)")
     model.add_argument("--restore", metavar="YEARS", type=number("years"),
                        help="the photo is already YEARS old under the light and schedule "
                             "given: first estimate it new (writes PHOTO_restored and "
@@ -92,6 +102,20 @@ def add_arguments(parser):
 
 
 # -- parsing ---------------------------------------------------------------------------
+
+
+def _fastness(text):
+    """argparse ``type=`` of one ``--fastness`` word: ``(colourant, class)``."""
+
+    name, sep, value = text.partition("=")
+    try:
+        k = float(value)
+    except ValueError:
+        k = float("nan")
+    if not sep or not name or not 1.0 <= k <= 8.0:
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: expected COLOURANT=CLASS with a Blue Wool class 1-8, e.g. yellow=2")
+    return name.strip(), k
 
 _non_negative_years = number("years")
 
@@ -195,7 +219,14 @@ def run(args):
     years = parse_years(args.years)
     lux, hours, days = args.lux, args.hours_per_day, args.days_per_year
     light = Light(args.light, args.uv_filter, lux, hours, days)
-    recipe = dataclasses.replace(RECIPES[args.recipe], kinetics=args.kinetics)
+    recipe = RECIPES[args.recipe]
+    if args.kinetics is not None:
+        recipe = dataclasses.replace(recipe, kinetics=args.kinetics)
+    if args.fastness:
+        try:
+            recipe = recipe.with_classes(dict(args.fastness))
+        except ValueError as exc:
+            raise UserError(f"--fastness: {exc}") from None
 
     photo = pathlib.Path(args.photo)
     rgb, alpha, info = _read(photo)

@@ -20,7 +20,16 @@ Two rate laws (``kinetics``):
     dlambda))`` with ``mu_a = f(t) A_j`` the colourant's *current* coefficient, so
     ``df/dt`` is proportional to ``f**2``.
 
-In both, ``mu_a`` and ``mu_s`` scale by the same ratio as ``f`` (4)–(5).
+``"shared"``
+    ``f(t + dt) = f(t) exp(-dt * beta_j * sum_i f_i integral(A_i F dlambda) / sum_i
+    f_i)``: photosensitised fading, each molecule destroyed at a rate set by the light
+    the colourants around it absorb per unit of colourant (dyes in one fibre share the
+    reactive oxygen and radicals that any of them makes: "catalytic fading" of dye
+    mixtures). One colourant alone fades exactly as with ``"first-order"``; in a
+    mixture, colourants of one ``beta`` lose the same fraction in every layer whatever
+    their concentrations, so a neutral of matched dyes fades on tone.
+
+In all, ``mu_a`` and ``mu_s`` scale by the same ratio as ``f`` (4)–(5).
 
 Two time-stepping schemes are offered:
 
@@ -53,7 +62,7 @@ __all__ = ["simulate", "SimulationResult", "SCHEMES", "KINETICS", "trapezoid_wei
 #: Time-stepping schemes, by name (see the module docstring).
 SCHEMES = ("paper", "heun")
 #: Rate laws, by name (see the module docstring); the first is the default.
-KINETICS = ("first-order", "paper")
+KINETICS = ("first-order", "paper", "shared")
 
 #: Columns (samples × wavelengths) per chunk; large enough that numpy's per-call
 #: overhead is small against the work of one sweep row.
@@ -300,11 +309,13 @@ def simulate(absorption, scattering, concentrations, sensitivity, irradiance,
     scheme : {"paper", "heun"}
         ``"paper"``: rates held over each step (first order in the step);
         ``"heun"``: the predictor–corrector (second order, two flux solves per step).
-    kinetics : {"first-order", "paper"}
+    kinetics : {"first-order", "paper", "shared"}
         The rate law. ``"first-order"``: ``df/dt = -f beta trapz(A_j F)``, each
         molecule fading at its own rate (photochemistry, conservation practice).
         ``"paper"``: equation (3) as printed, ``mu_a = f A_j`` inside the exponent,
-        so ``df/dt`` goes as ``f**2``. ``scheme="paper", kinetics="paper"`` is
+        so ``df/dt`` goes as ``f**2``. ``"shared"``: ``df_j/dt = -f_j beta_j
+        sum_i f_i trapz(A_i F) / sum_i f_i`` (photosensitised fading; see the module
+        docstring). ``scheme="paper", kinetics="paper"`` is
         the paper's equations (1)–(5) exactly.
     yields : array_like, shape (C, C), optional
         ``yields[j, k]``: volume fraction of ``k`` formed per unit lost by ``j``.

@@ -141,10 +141,12 @@ class LayeredStack:
     fmax : float or ndarray, shape (C,)
         Upper bound of each colourant's volume fraction during the run (1 unless
         yields can raise a product above 1).
-    kinetics : {"first-order", "paper"}
+    kinetics : {"first-order", "paper", "shared"}
         ``"paper"``: the rate per unit of colourant carries ``mu_a = f A_j``
         (equation 3 as printed); ``"first-order"``: ``A_j`` (each molecule absorbs
-        for itself). See :mod:`.fading`.
+        for itself); ``"shared"``: the light absorbed by all the colourants of the
+        layer per unit of colourant, ``sum_i f_i A_i / sum_i f_i`` (photosensitised
+        fading). See :mod:`.fading`.
     """
 
     def __init__(self, A, S, beta, E0, ground, wavelengths, thickness, N, B, fmax=1.0,
@@ -165,6 +167,7 @@ class LayeredStack:
         self.Wr = np.ascontiguousarray((0.5 * trapezoid_weights(wavelengths) * E0 * A).T)
         self.beta = np.asarray(beta, dtype=float)
         self.times_f = kinetics == "paper"
+        self.shared = kinetics == "shared"
         self.ground = np.tile(ground, B)
         self.rows = max(1, min(N, _BLOCK_BYTES // (8 * n)))
         self.R = np.empty((N + 1, n))                # reflectance below each boundary
@@ -234,7 +237,8 @@ class LayeredStack:
         rate : ndarray, shape (N, B, C)
             ``beta_j * trapz(mu_a_j * F)`` with ``F`` the layer's mean fluence rate
             under the irradiance ``E0`` and ``mu_a_j = f A_j`` (``"paper"``
-            kinetics) or ``A_j`` (``"first-order"``).
+            kinetics) or ``A_j`` (``"first-order"``); with ``"shared"``,
+            ``beta_j * sum_i f_i trapz(A_i F) / sum_i f_i``.
         R0 : ndarray, shape (B, W)
             The stack reflectance at these fractions.
         """
@@ -258,6 +262,12 @@ class LayeredStack:
             F += Fb
             np.matmul(F.reshape(k * B, W), self.Wr, out=rate[i0:i1].reshape(k * B, C))
             Ed[0] = Ed[k]
+        if self.shared:                  # sum_i f_i a_i / sum_i f_i, for every j
+            total = f.sum(axis=2, keepdims=True)
+            mean = np.einsum("nbc,nbc->nb", rate, f)[..., None]
+            np.divide(mean, total, out=rate[..., :1], where=total > 0)
+            rate[..., :1][total <= 0] = 0.0
+            rate[...] = rate[..., :1]
         rate *= self.beta
         if self.times_f:
             rate *= f

@@ -7,11 +7,10 @@ accuracy study. Which colourants are *unmixed* from a texture's colours and whic
 have a fixed concentration is part of the recipe: printed paper is unmixed into
 cyan, magenta and yellow; bare wood has a fixed lignin content whatever its grain.
 
-Blue Wool calibration (DESIGN.md, "Light spectra and sensitivity"): a colourant of
-class ``k`` shows a just-noticeable fade, ΔE*ab = 1.6 (grey scale step 4), after
-``0.4 Mlx·h × 3**(k - 1)`` of a UV-free reference light (CIE D65 behind a UV
-filter). :func:`beta_from_blue_wool` finds the ``beta`` that does so for the
-colourant alone at full concentration on the recipe's substrate.
+Blue Wool classes become ``beta`` in :mod:`.calibration` (each colourant on its own
+colour change, or matched rates: ``docs/recipes.md``); :func:`beta_from_blue_wool`,
+:func:`blue_wool_dose`, :func:`matched_rates` and :data:`JND_DELTA_E` are re-exported
+here.
 """
 
 from __future__ import annotations
@@ -21,46 +20,27 @@ import inspect
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.optimize import brentq
 
-from .colorimetry import delta_E_ab, reflectance_to_Lab
+from .calibration import (
+    CALIBRATIONS, JND_DELTA_E, beta_from_blue_wool, blue_wool_dose, matched_rates)
 from .colourants import load_colourant, load_substrate
 from .fading import KINETICS, SimulationResult, simulate
 from .lattice import dose_axis
-from .spectra import WAVELENGTHS, light_spectrum
+from .spectra import WAVELENGTHS
 
 __all__ = [
     "Recipe",
     "RECIPES",
     "get_recipe",
     "blue_wool_dose",
+    "fastness_text",
     "beta_from_blue_wool",
+    "matched_rates",
     "JND_DELTA_E",
 ]
 
 #: Dose nodes every recipe simulation steps at (as many as the grid's default dose axis).
 SOLVER_NODES = 65
-#: A just-noticeable colour change, ΔE*ab (ISO grey scale step 4).
-JND_DELTA_E = 1.6
-#: Dose for a just-noticeable fade of Blue Wool class 1, lux·h, UV-free light.
-BLUE_WOOL_1_DOSE = 0.4e6
-
-
-def blue_wool_dose(blue_wool):
-    """Dose (lux·h) for a just-noticeable fade of Blue Wool class ``blue_wool``.
-
-    ``0.4 Mlx·h × 3**(class - 1)``: about 0.4 Mlx·h for class 1 and 875 Mlx·h for
-    class 8 (fractional classes interpolate geometrically).
-
-    Examples
-    --------
-    >>> blue_wool_dose(3) / 1e6
-    3.6
-    """
-    k = float(blue_wool)
-    if not 1.0 <= k <= 8.0:
-        raise ValueError(f"Blue Wool class must lie in 1..8, got {blue_wool!r}")
-    return BLUE_WOOL_1_DOSE * 3.0 ** (k - 1.0)
 
 
 @dataclass(frozen=True)
@@ -89,8 +69,17 @@ class Recipe:
     calibration_light : str
         Light of the Blue Wool calibration (UV-filtered unless the colourant only
         reacts to UV, e.g. lignin, when ``calibration_uv_filter`` is False).
-    kinetics : {"first-order", "paper"}
-        The rate law (:func:`.fading.simulate`); first-order by default.
+    calibration : {"colour", "rate"}
+        What a Blue Wool class fixes (:func:`beta_from_blue_wool`). ``"colour"``: the
+        colourant's own colour change, alone at full concentration. ``"rate"``: its
+        photochemical rate: a colourant of class ``k`` is destroyed, in a mid-dark
+        neutral under the calibration light, as fast as the recipe's first colourant
+        (the reference) of class ``k``, so that colourants of one class fade together and a neutral built
+        from them fades on tone (dyers' trichromats of matched fastness).
+    kinetics : {"first-order", "paper", "shared"}
+        The rate law (:func:`.fading.simulate`); first-order by default. Dyes and
+        inks in one medium use ``"shared"`` (photosensitised fading: colourants of
+        one class lose the same fraction whatever the mixture).
     thickness, layers, steps, scheme
         Medium thickness and solver settings (defaults: the accuracy study's choice).
     description : str
@@ -108,6 +97,7 @@ class Recipe:
     yields: tuple = ()
     calibration_light: str = "daylight"
     calibration_uv_filter: bool = True
+    calibration: str = "colour"
     thickness: float = 1.0
     layers: int | None = None
     steps: int | None = None
@@ -127,6 +117,9 @@ class Recipe:
         for k in self.blue_wool:
             if k is not None:
                 blue_wool_dose(k)
+        if self.calibration not in CALIBRATIONS:
+            raise ValueError(f"recipe {self.name!r}: calibration must be one of "
+                             f"{CALIBRATIONS}, got {self.calibration!r}")
         if self.kinetics not in KINETICS:
             raise ValueError(f"recipe {self.name!r}: kinetics must be one of {KINETICS}, "
                              f"got {self.kinetics!r}")
@@ -228,6 +221,34 @@ class Recipe:
         return replace(self, beta=None, blue_wool=tuple(
             None if k is None else float(np.clip(k + shift, 1.0, 8.0)) for k in self.blue_wool))
 
+    def with_classes(self, classes):
+        """The recipe with some colourants at other Blue Wool classes (a fugitive dye).
+
+        Parameters
+        ----------
+        classes : mapping of str to float
+            Colourant name -> ISO Blue Wool class (1-8), e.g. ``{"yellow": 2}``: that
+            dye fades as fast as a class-2 one while the others keep theirs.
+
+        Raises
+        ------
+        ValueError
+            An unknown colourant, one whose sensitivity is not given as a class (a
+            product such as quinone), or a class outside 1-8.
+        """
+        new = list(self.blue_wool)
+        for name, k in classes.items():
+            if name not in self.colourants:
+                raise ValueError(f"recipe {self.name!r} has no colourant {name!r}; its "
+                                 f"colourants: {', '.join(self.colourants)}")
+            j = self.index(name)
+            if new[j] is None:
+                raise ValueError(f"colourant {name!r} of recipe {self.name!r} does not fade "
+                                 f"by itself (it is formed by light): no class to set")
+            blue_wool_dose(k)
+            new[j] = float(k)
+        return replace(self, beta=None, blue_wool=tuple(new))
+
     def with_beta(self, beta):
         """The recipe with its most sensitive colourant at ``beta``, the others scaled."""
         b = self.sensitivity()
@@ -259,84 +280,58 @@ def _optics(colourants, substrate, wavelengths):
     return A, S, load_substrate(substrate, lam).reflectance
 
 
-def _calibration_fade(recipe, j, beta, dose, wavelengths):
-    """ΔE*ab of colourant ``j`` alone at full concentration after ``dose`` lux·h."""
-    c = recipe.base_concentrations()
-    c[j] = 1.0
-    sens = np.zeros(len(recipe.colourants))
-    sens[j] = beta
-    E0 = light_spectrum(recipe.calibration_light, wavelengths, recipe.calibration_uv_filter)
-    r = recipe.simulate(c, E0, dose, wavelengths=wavelengths, sensitivity=sens)
-    return float(delta_E_ab(reflectance_to_Lab(r.initial, wavelengths),
-                            reflectance_to_Lab(r.reflectance, wavelengths)))
-
-
-@functools.lru_cache(maxsize=256)
-def _beta_cached(recipe, j, blue_wool, wavelengths):
-    lam = np.asarray(wavelengths)
-    dose = blue_wool_dose(blue_wool)
-
-    def excess(log_beta):                   # grows monotonically with beta
-        return _calibration_fade(recipe, j, np.exp(log_beta), dose, lam) - JND_DELTA_E
-
-    # bracket the root in log(beta), then Brent's method to 1e-10 in log(beta)
-    lo, hi = -30.0, -30.0
-    while excess(hi) < 0:
-        lo, hi = hi, hi + 4.0
-        if hi > 30:
-            raise ValueError(
-                f"recipe {recipe.name!r}: colourant {recipe.colourants[j]!r} does not fade "
-                f"under the calibration light {recipe.calibration_light!r}"
-                f"{' with UV filter' if recipe.calibration_uv_filter else ''}; give beta directly")
-    if lo == hi:
-        raise ValueError(f"recipe {recipe.name!r}: colourant {recipe.colourants[j]!r} fades "
-                         f"visibly at any beta; give beta directly")
-    return float(np.exp(brentq(excess, lo, hi, xtol=1e-10)))
-
-
-def beta_from_blue_wool(recipe, j, blue_wool, wavelengths=WAVELENGTHS):
-    """``beta`` of colourant ``j`` of ``recipe`` for ISO Blue Wool class ``blue_wool``.
-
-    The colourant alone at full concentration on the recipe's substrate, lit by the
-    recipe's calibration light, fades by ΔE*ab = 1.6 after :func:`blue_wool_dose`.
-    Results are cached.
-
-    Returns
-    -------
-    float
-        ``beta`` in (W m^-2 nm^-1 · nm · h · unit K)^-1, i.e. for an irradiance
-        given as the light's spectrum at 1 lux and durations in hours.
-    """
-    return _beta_cached(replace(recipe, beta=None), int(j), float(blue_wool),
-                        tuple(np.asarray(wavelengths, float)))
-
-
 CMY = ("cyan", "magenta", "yellow")
 
 #: The bundled presets, by name.
 RECIPES = {r.name: r for r in (
     Recipe(
         name="printed-paper",
-        description="Dye-based print or poster on paper: magenta fades first, cyan last",
-        colourants=CMY, substrate="paper", unmixed=CMY,
-        blue_wool=(4.0, 2.0, 3.0)),
+        description="Print or poster on paper: yellow and magenta fade first, greys go "
+                    "blue (cyan lasts)",
+        colourants=CMY, substrate="paper", unmixed=CMY, calibration="rate",
+        kinetics="shared",
+        blue_wool=(5.0, 3.5, 3.0)),
     Recipe(
         name="dyed-fabric",
-        description="Dyed textile, rug or curtain (CMY dyes on undyed wool)",
-        colourants=CMY, substrate="fabric", unmixed=CMY,
-        blue_wool=(5.0, 3.0, 4.0)),
+        description="Dyed textile, rug or curtain: dyes of matched fastness, colours fade "
+                    "on tone (lighter, duller)",
+        colourants=CMY, substrate="fabric", unmixed=CMY, calibration="rate",
+        kinetics="shared",
+        blue_wool=(4.0, 4.0, 4.0)),
     Recipe(
         name="painted-wood",
-        description="Painted or stained furniture (pigments over a white ground)",
-        colourants=CMY, substrate="white-ground", unmixed=CMY,
-        blue_wool=(6.0, 4.0, 5.0)),
+        description="Painted furniture or woodwork: lightfast pigments over a white ground, "
+                    "fade on tone, about 9x slower than fabric",
+        colourants=CMY, substrate="white-ground", unmixed=CMY, calibration="rate",
+        kinetics="shared",
+        blue_wool=(6.0, 6.0, 6.0)),
     Recipe(
         name="bare-wood",
-        description="Unfinished wood or newsprint: lignin yellows into quinones in UV light",
-        colourants=("lignin", "quinone"), substrate="wood", unmixed=(),
-        fixed=(("lignin", 0.5),), yields=(("lignin", "quinone", 0.6),),
-        blue_wool=(2.0, None), calibration_uv_filter=False),
+        description="Unfinished wood: pale woods darken, redden and yellow (lignin to "
+                    "quinones), dark woods lighten (brown extractives bleach); most change "
+                    "in the first year",
+        colourants=("lignin", "quinone", "extractive"), substrate="wood",
+        unmixed=("extractive",), fixed=(("lignin", 1.0),),
+        yields=(("lignin", "quinone", 0.3),),
+        blue_wool=(1.0, None, 2.7), calibration_uv_filter=False),
 )}
+
+
+def fastness_text(recipe):
+    """Each colourant's Blue Wool class on one line, for the UI.
+
+    Colourants formed by light (no class) are left out; a recipe given by ``beta``
+    says so.
+
+    Examples
+    --------
+    >>> fastness_text(RECIPES["printed-paper"])
+    'cyan 5 · magenta 3.5 · yellow 3'
+    """
+    if recipe.beta is not None:
+        return "sensitivity given as beta"
+    return " · ".join(f"{name} {k:g}" for name, k in zip(recipe.colourants, recipe.blue_wool)
+                      if k is not None)
 
 
 def get_recipe(name):

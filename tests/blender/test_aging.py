@@ -403,7 +403,7 @@ def test_material_settings_become_the_core_recipe_and_history(blender):
 
     s = bpy.data.materials.new("Print").lightfade
     s.blue_wool = 5
-    assert material_recipe(s.id_data).blue_wool == (7.0, 5.0, 6.0)    # printed paper: (4, 2, 3)
+    assert material_recipe(s.id_data).blue_wool == (7.0, 5.5, 5.0)    # printed paper: (5, 3.5, 3)
     s.sensitivity_mode, s.beta = "BETA", 23.0
     assert material_recipe(s.id_data).sensitivity().max() == pytest.approx(23e-6)
     assert material_prior(s.id_data) is None

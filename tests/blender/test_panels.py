@@ -71,3 +71,18 @@ def test_panels_draw(floor_scene, lf):
     assert max_lux == lf.pixels(image).max() and max_lux > 683 * 2 * 0.766 * 0.97
     assert f"{max_lux:,.0f} lx" in labels
     assert any(f"({max_lux * 1000 / 1e6:.3g} Mlx·h)" in t for t in labels)
+
+
+def test_material_panel_says_each_colourants_class(floor_scene):
+    """The material panel shows the recipe's description and each colourant's class as
+    the Blue Wool setting shifts them (printed paper at 2: yellow 2, magenta 2.5, cyan 4)."""
+    from lightfade_addon.core.recipes import RECIPES
+
+    mat = floor_scene["material"]
+    mat.lightfade.enabled = True
+    mat.lightfade.recipe = "PRINTED_PAPER"
+    mat.lightfade.blue_wool = 2
+    ctx = SimpleNamespace(scene=bpy.context.scene, object=floor_scene["floor"], material=mat)
+    labels = [text for kind, text in draw_all(ctx) if kind == "label"]
+    assert RECIPES["printed-paper"].description in labels
+    assert "Per colourant: cyan 4 · magenta 2.5 · yellow 2" in labels

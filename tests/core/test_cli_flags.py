@@ -66,3 +66,25 @@ def test_restore_writes_the_restored_image_and_the_lost_mask(photo, tmp_path, ca
 def test_restore_refuses_bad_years(photo, capsys):
     assert run(photo, "--years", "1", "--restore", "soon") != 0
     assert "--restore" in capsys.readouterr().err
+
+
+def test_fastness_makes_one_dye_fugitive(photo, tmp_path):
+    """--fastness yellow=1: the fabric's yellow fades far sooner, so colours go blue."""
+    args = ("--years", "1", "--lux", "1000", "--recipe", "dyed-fabric")
+    assert run(photo, *args, "--out", tmp_path / "matched") == 0
+    assert run(photo, *args, "--fastness", "yellow=1", "--out", tmp_path / "fugitive") == 0
+    matched = read(tmp_path / "matched" / "old_1y.png")
+    fugitive = read(tmp_path / "fugitive" / "old_1y.png")
+    # blue rises against red where the yellow went
+    assert (fugitive[..., 2] - fugitive[..., 0]).mean() > (matched[..., 2] - matched[..., 0]
+                                                           ).mean() + 0.02
+
+
+@pytest.mark.parametrize("bad, says", [("yellow", "COLOURANT=CLASS"), ("yellow=9", "1-8"),
+                                       ("green=2", "no colourant 'green'")])
+def test_bad_fastness_is_refused(photo, capsys, bad, says):
+    try:
+        code = run(photo, "--years", "1", "--recipe", "dyed-fabric", "--fastness", bad)
+    except SystemExit as exc:        # argparse's own exit
+        code = exc.code
+    assert code != 0 and says in capsys.readouterr().err

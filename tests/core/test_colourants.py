@@ -17,7 +17,7 @@ from lightfade_addon.core.colourants import (
 from lightfade_addon.core.kubelka import kubelka_layer, over_ground
 from lightfade_addon.core.spectra import WAVELENGTHS
 
-COLOURANTS = ["cyan", "lignin", "magenta", "quinone", "yellow"]
+COLOURANTS = ["cyan", "extractive", "lignin", "magenta", "quinone", "yellow"]
 SUBSTRATES = ["fabric", "paper", "white-ground", "wood"]
 
 #: ISO 12647-2 coated-paper primaries (CIELAB D50) and the Delta E*ab documented in
@@ -75,7 +75,7 @@ class TestBundledData:
         c = load_colourant(name, wavelengths=None)
         visible = c.wavelengths >= 400
         assert abs(c.wavelengths[visible][np.argmax(c.K[visible])] - peak) <= 20
-        assert np.all((c.S >= 0.02) & (c.S <= 0.2))  # the paper's Fig. 5 range
+        assert np.all((c.S > 0) & (c.S <= 0.05))  # dissolved dyes barely scatter
 
     def test_dyes_absorb_uv(self):
         for name in ("cyan", "magenta", "yellow"):
@@ -91,7 +91,8 @@ class TestBundledData:
         c = load_colourant("quinone", wavelengths=None)
         visible = c.wavelengths >= 380
         assert 400 <= c.wavelengths[visible][np.argmax(c.K[visible])] <= 500
-        assert c.K[c.wavelengths >= 650].max() < 0.05  # only a weak brown tail
+        # a brown-red tail (sunlit pale wood reddens), far below the blue band
+        assert c.K[c.wavelengths >= 650].max() < 0.2 * c.K[visible].max()
 
     def test_wood(self):
         s = load_substrate("wood", wavelengths=None)

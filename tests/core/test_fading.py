@@ -97,6 +97,36 @@ class TestEquation3:
         exponent = dt * toy["sensitivity"] * trapezoid(mu_a * F, toy["wavelengths"], axis=1)
         np.testing.assert_allclose(r.fractions[0], c * np.exp(-exponent), rtol=1e-12)
 
+    def test_shared_by_hand(self, toy):
+        """Shared: every colourant's exponent is its beta times the layer's absorbed light
+        per unit of colourant, sum_i f_i trapz(A_i F) / sum_i f_i."""
+        c = np.array([0.3, 0.5, 0.2])
+        dt = 7.0
+        r = run(toy, c, layers=1, steps=1, duration=dt, scheme="paper", kinetics="shared")
+        rho, tau = kubelka_layer(c @ toy["absorption"], c @ toy["scattering"], 1.0)
+        Ed, Eu = boundary_fluxes(rho[None], tau[None], toy["substrate"], toy["irradiance"])
+        F = 0.5 * ((Ed + Eu)[0] + (Ed + Eu)[1])
+        absorbed = trapezoid(toy["absorption"] * F, toy["wavelengths"], axis=1)
+        exponent = dt * toy["sensitivity"] * (c @ absorbed) / c.sum()
+        np.testing.assert_allclose(r.fractions[0], c * np.exp(-exponent), rtol=1e-12)
+
+    def test_shared_matched_dyes_fade_together_and_one_dye_is_first_order(self, toy):
+        """Equal betas lose the same fraction in every layer whatever the mixture (one
+        shields the others); a colourant alone fades exactly as with first order."""
+        same = dict(toy, sensitivity=np.full(3, 0.0005))
+        c = np.array([[0.9, 0.1, 0.5], [0.05, 1.0, 0.2]])
+        r = run(same, c, layers=4, steps=3, kinetics="shared")
+        kept = r.fractions / c[:, None, :]
+        np.testing.assert_allclose(kept, np.broadcast_to(kept[..., :1], kept.shape), rtol=1e-12)
+        assert kept[0, 0, 0] < kept[0, -1, 0] - 0.01             # the top layer fades most
+        first = run(same, c, layers=4, steps=3)
+        assert np.ptp(first.fractions[0, -1] / c[0]) > 0.01     # first order: they drift
+        alone = np.array([0.0, 0.7, 0.0])
+        np.testing.assert_allclose(run(toy, alone, kinetics="shared").fractions,
+                                   run(toy, alone).fractions, rtol=1e-12)
+        white = run(toy, np.zeros(3), kinetics="shared")         # nothing to fade: no NaN
+        assert np.all(np.isfinite(white.reflectance))
+
     def test_first_order_is_the_default_and_pale_tints_fade_at_the_same_rate(self, toy):
         """First order: in an optically thin layer (no shielding) the surviving fraction
         does not depend on the concentration; with the paper's law a pale tint keeps

@@ -2,6 +2,7 @@
 
 import os
 import sys
+from dataclasses import replace
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -129,7 +130,8 @@ class TestAccuracy:
             assert delta_E_2000(XYZ_to_Lab(aged), XYZ_to_Lab(X[0])).max() < 1.0
 
     def test_recipe_without_unmixed_colourants(self):
-        wood = RECIPES["bare-wood"]
+        wood = replace(RECIPES["bare-wood"], name="lignin-only", unmixed=(),
+                       colourants=("lignin", "quinone"), blue_wool=(1.0, None))
         g = build_grid(wood, light_spectrum("daylight")[None], 5e6, GridSettings(doses=9))
         assert g.axes == [] and g.change.shape == (1, 9, 3)
         lc = g.log_change(np.zeros((2, 0)), [0.0, 5e6])
