@@ -26,7 +26,7 @@ def aged_image(material):
     from lightfade_addon.blender.years import get_years
 
     (copy,) = copies_of(material)
-    return apply_copy(copy, get_years(bpy.context.scene))
+    return apply_copy(bpy.context.scene, copy, get_years(bpy.context.scene))
 
 
 def the_copy_props(material):
@@ -205,7 +205,7 @@ class TestSaveReload:
         assert np.abs(rgba(aged_image(mat)) - aged_before).max() > 0.01
 
 
-    def test_saving_twice_keeps_the_aged_pixels(self, carpet, tmp_path):
+    def test_saving_twice_keeps_the_aged_pixels(bpy.context.scene, self, carpet, tmp_path):
         bpy.ops.lightfade.age(years=4)
         path = str(tmp_path / "twice.blend")
         bpy.ops.wm.save_as_mainfile(filepath=path)

@@ -29,10 +29,9 @@ def the_copy(material):
 def node_evaluation(copy, colour=BASE_COLOR):
     """(H, W, 3) the copy's Base Color as Cycles evaluates it (its aging node group) at
     the key texels' centres: an Emission bake in the exposure UV map."""
-    from lightfade_addon.blender.agingdata import key_shape
     from lightfade_addon.blender.albedo import bake_albedos
 
-    H, W = key_shape(copy)
+    W, H = copy.lightfade.albedo.size
     image = bpy.data.images.new("NodeEvaluation", W, H, alpha=True, float_buffer=True)
     image.colorspace_settings.name = "Linear Rec.709"
     scene = bpy.context.scene
@@ -95,10 +94,10 @@ class TestNodeGroupAgainstNumpy:
             api.set_years(bpy.context.scene, years)
             # the outer ring: Cycles' bake samples border texels off their centres
             nodes = node_evaluation(copy)[1:-1, 1:-1]
-            numpy = aged_pixels(copy, years)[1:-1, 1:-1, :3]
+            numpy = aged_pixels(bpy.context.scene, copy, years)[1:-1, 1:-1, :3]
             dE = delta_E_2000(lab(nodes), lab(numpy))
             assert np.percentile(dE, 99) <= 0.2 and dE.max() <= 0.5, (years, dE.max())
-        original = aged_pixels(copy, 0.0)[1:-1, 1:-1, :3]
+        original = aged_pixels(bpy.context.scene, copy, 0.0)[1:-1, 1:-1, :3]
         assert delta_E_2000(lab(numpy), lab(original)).mean() > 2     # a real fade
 
     def test_years_reach_the_group_through_the_scene_property(self, textured):
@@ -254,7 +253,7 @@ def test_apply_then_live_aging_round_trip(textured):
     assert bsdf.inputs["Base Color"].links[0].from_node.name == APPLIED_NAME
     assert image["lightfade_years"] == 12.0
     from lightfade_addon.blender.apply import aged_pixels
-    np.testing.assert_allclose(rgba(image), aged_pixels(copy, 12.0), atol=1e-6)
+    np.testing.assert_allclose(rgba(image), aged_pixels(bpy.context.scene, copy, 12.0), atol=1e-6)
     assert bpy.ops.lightfade.live_aging() == {"FINISHED"}
     assert bsdf.inputs["Base Color"].links[0].from_node.name == GROUP_NODE
     assert copy.lightfade.aged_image is None and not any(

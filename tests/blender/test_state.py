@@ -28,7 +28,7 @@ def aged(material):
     from lightfade_addon.blender.apply import apply_copy
     from lightfade_addon.blender.years import get_years
 
-    return rgba(apply_copy(the_copy(material), get_years(bpy.context.scene)))
+    return rgba(apply_copy(bpy.context.scene, the_copy(material), get_years(bpy.context.scene)))
 
 
 @pytest.fixture
@@ -360,7 +360,7 @@ from lightfade_addon.core.grid import GridSettings
 runtime.GRID_SETTINGS = {grid!r}          # the grid this test process uses
 api.set_years(bpy.context.scene, {years!r})
 from lightfade_addon.blender.apply import apply_copy
-image = apply_copy(copies_of()[0], {years!r})
+image = apply_copy(bpy.context.scene, copies_of()[0], {years!r})
 a = np.empty(len(image.pixels), np.float32)
 image.pixels.foreach_get(a)
 np.save({out!r}, a)
