@@ -133,8 +133,13 @@ def remove_copy(copy):
     trees = [n.node_tree for _t, n in walk(copy.node_tree)
              if n.type == "GROUP" and n.node_tree is not None and n.node_tree.get(TREE_TAG)]
     bpy.data.materials.remove(copy)
-    for tree in trees:      # private to the copy by construction (Blender 4.2 miscounts users)
-        bpy.data.node_groups.remove(tree)
+    # private to the copy by construction, unless a copy of the copy shares them (Blender
+    # 4.2 miscounts users, so the materials are asked)
+    shared = {n.node_tree for m in bpy.data.materials for _t, n in walk(m.node_tree)
+              if n.type == "GROUP" and n.node_tree is not None}
+    for tree in trees:
+        if tree not in shared:
+            bpy.data.node_groups.remove(tree)
 
 
 def walk(tree, depth=0):
