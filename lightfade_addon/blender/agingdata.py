@@ -17,6 +17,9 @@ The numpy evaluator (:func:`..core.colourtable.evaluate`) reads the same table b
 
 from __future__ import annotations
 
+import os
+import shutil
+import tempfile
 from dataclasses import dataclass
 
 import bpy
@@ -81,16 +84,46 @@ def ensure_table(recipe, keys, prior=None, progress=None, restore_kw=None):
         return image, None
     table = load_or_build(recipe, keys, TABLE_SETTINGS, prior, progress,
                           restore_kw=restore_kw)
-    W, H, _P = atlas_layout(table)
-    image = bpy.data.images.new(TABLE_PREFIX + key[:16], W, H, alpha=True, float_buffer=True)
-    image.colorspace_settings.name = "Non-Color"
-    image.alpha_mode = "CHANNEL_PACKED"
-    write_rgba(image, atlas_pixels(table))
-    image.use_half_precision = True            # the values are half precision already
-    image.file_format = "OPEN_EXR"
-    image.pack()
+    image = _half_exr(TABLE_PREFIX + key[:16], atlas_pixels(table))
     image[TABLE_INFO] = table.info()
     return image, table
+
+
+def _half_exr(name, rgba):
+    """A packed image holding ``rgba`` (H, W, 4) as a half-float, ZIP-compressed OpenEXR.
+
+    Blender packs a generated float image as full-float EXR (16 bytes a texel); the
+    table's values are half precision already, so the file is written as half floats
+    (8 bytes a texel before compression, lossless here) and that file is packed.
+    """
+    H, W = rgba.shape[:2]
+    tmp = bpy.data.images.new(name + "_tmp", W, H, alpha=True, float_buffer=True)
+    folder = tempfile.mkdtemp(prefix="lightfade_")
+    path = os.path.join(folder, "table.exr")
+    try:
+        tmp.colorspace_settings.name = "Non-Color"
+        write_rgba(tmp, rgba)
+        settings = bpy.context.scene.render.image_settings
+        saved = {k: getattr(settings, k) for k in ("file_format", "color_depth", "exr_codec",
+                                                   "color_mode")}
+        try:
+            settings.file_format, settings.color_mode = "OPEN_EXR", "RGBA"
+            settings.color_depth, settings.exr_codec = "16", "ZIP"
+            tmp.save_render(path, scene=bpy.context.scene)
+        finally:
+            for k, v in saved.items():
+                setattr(settings, k, v)
+        image = bpy.data.images.load(path)
+        image.name = name
+        image.colorspace_settings.name = "Non-Color"
+        image.alpha_mode = "CHANNEL_PACKED"
+        image.use_half_precision = True
+        image.pack()
+        image.filepath = ""
+    finally:
+        bpy.data.images.remove(tmp)
+        shutil.rmtree(folder, ignore_errors=True)
+    return image
 
 
 def table_info(image):

@@ -64,8 +64,8 @@ class TableSettings:
 
     side: int = 17
     gamma: float = 2.2
-    per_decade: int = 10
-    low_dose: float = 1e3
+    per_decade: int = 8
+    low_dose: float = 1e4
     ceiling: float = 1e14
     grid: GridSettings = GridSettings()
 
