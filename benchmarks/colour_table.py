@@ -21,8 +21,10 @@ import time
 
 import numpy as np
 
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode
-from lightfade_addon.core.colourtable import TableSettings, build_table, evaluate
+from lightfade_addon.core.colorimetry import (
+    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode, srgb_encode)
+from lightfade_addon.core.colourtable import evaluate
+from lightfade_addon.core.tablebuild import TableSettings, build_table
 from lightfade_addon.core.exact import age_image_exact
 from lightfade_addon.core.grid import GridSettings
 from lightfade_addon.core.lights import Light
@@ -58,7 +60,6 @@ def load(path, size):
     rgb = np.asarray(rgb, dtype=np.float32)[..., :3]
     if path.endswith(".exr"):                      # scene-referred: expose, then encode
         rgb = rgb / np.percentile(rgb.mean(-1), 97)
-        from lightfade_addon.core.colorimetry import srgb_encode
         rgb = srgb_encode(np.clip(rgb, 0, 1))
     step = max(1, int(np.ceil(max(rgb.shape[:2]) / size)))
     rgb = rgb[::step, ::step]
@@ -76,7 +77,7 @@ def main(argv=None):
     p.add_argument("--side", type=int, default=TableSettings.side)
     p.add_argument("--gamma", type=float, default=TableSettings.gamma)
     p.add_argument("--per-decade", type=int, default=TableSettings.per_decade)
-    p.add_argument("--points", type=int, default=GridSettings.points)
+    p.add_argument("--points", type=int, default=TableSettings().grid.points)
     p.add_argument("--size", type=int, default=128, help="longer side of each photo (px)")
     p.add_argument("--recipe", default="printed-paper")
     a = p.parse_args(argv)
@@ -99,7 +100,6 @@ def main(argv=None):
         exact = age_image_exact(enc, list(YEARS), recipe, LIGHT, encoding="srgb")
         cells = []
         for y, ref in zip(YEARS, exact):
-            from lightfade_addon.core.colorimetry import srgb_encode
             ours = srgb_encode(evaluate(table, lin, rate, y))
             d = dE(ours, ref)
             p99, mx = float(np.percentile(d, 99)), float(d.max())

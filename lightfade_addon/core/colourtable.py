@@ -53,8 +53,9 @@ MAX_ATLAS_HEIGHT = 16384
 
 
 def mix_resolution(S):
-    """Light-mix lattice resolution ``q`` for ``S`` spectra (at most 9 slots)."""
-    return {1: 1, 2: 4, 3: 2}.get(S, 1)
+    """Light-mix lattice resolution ``q`` for ``S`` spectra: 3 slots for two spectra,
+    9 (6 used) for three, 8 (4 used) for four: the table grows with the slots."""
+    return {1: 1, 2: 2, 3: 2}.get(S, 1)
 
 
 @dataclass(frozen=True)

@@ -67,7 +67,7 @@ class TableSettings:
     per_decade: int = 8
     low_dose: float = 1e4
     ceiling: float = 1e14
-    grid: GridSettings = GridSettings()
+    grid: GridSettings = GridSettings(points=8)
 
 def _dose_axis(settings):
     """Dose nodes 0, low, …, ceiling (lux·h)."""

@@ -218,16 +218,23 @@ def _colour(g, colour, change):
 
 
 def _gamut(g, c):
+    """:func:`..core.gamut.into_gamut` on the vector ``c``, in vector nodes.
+
+    ``t = clamp(min_k max((1 - Y) / d_k, -Y / d_k), 0, 1)``, ``d = c - Y``: for a channel
+    inside [0, 1] both ratios' larger one is at least 1, so only channels outside limit
+    ``t``, as in the numpy rule (a tiny offset keeps Blender's safe division, which
+    gives 0 for a zero divisor, away from channels that equal ``Y``).
+    """
     g.stage = "gamut"
-    Y = (c[0] * float(LUMA[0]) + c[1] * float(LUMA[1]) + c[2] * float(LUMA[2])).clamp(0.0, 1.0)
-    d = [ck - Y for ck in c]
-    t = None
-    for ck, dk in zip(c, d):
-        hi, lo = ck.gt(1.0), ck.lt(0.0)
-        tk = hi * ((1.0 - Y) / dk) + (1.0 - hi) * (lo * ((0.0 - Y) / dk) + (1.0 - lo))
-        t = tk if t is None else t.min(tk)
-    t = t.clamp(0.0, 1.0)
-    return [(Y + t * dk).clamp(0.0, 1.0) for dk in d]
+    Y = g.vector("DOT_PRODUCT", c, tuple(float(v) for v in LUMA)).clamp(0.0, 1.0)
+    d = g.vector("SUBTRACT", c, Y)
+    den = g.vector("ADD", d, (1e-20, 1e-20, 1e-20))
+    up = g.vector("DIVIDE", 1.0 - Y, den)
+    down = g.vector("DIVIDE", 0.0 - Y, den)
+    tx, ty, tz = g.separate(g.vector("MAXIMUM", up, down))
+    t = tx.min(ty).min(tz).clamp(0.0, 1.0)
+    out = g.vector("MULTIPLY_ADD", d, t, Y)
+    return g.vector("MINIMUM", g.vector("MAXIMUM", out, (0.0, 0.0, 0.0)), (1.0, 1.0, 1.0))
 
 
 def build(tree, spec):
@@ -246,9 +253,8 @@ def build(tree, spec):
     t, ft = _dose(g, spec, years, total)
     vertices = _mix(g, spec, rates, total)
     change = _table(g, spec, _cube(g, spec, colour), vertices, t, ft)
-    rgb = _gamut(g, _colour(g, colour, change))
+    result = _gamut(g, g.combine(*_colour(g, colour, change)))
     g.stage = "switch"
-    result = g.combine(*rgb)
     if not spec.history:
         on = years.gt(0.0)
         result = g.vector("ADD", colour, g.vector("SCALE", g.vector("SUBTRACT", result, colour),
