@@ -35,6 +35,8 @@ against each other texel by texel.
 from __future__ import annotations
 
 import math
+import os
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,8 +48,9 @@ from .table import simplex_slots
 __all__ = ["ColourTable", "atlas_layout", "atlas_pixels", "cube_colours", "dose_position",
            "evaluate", "mix_resolution", "table_from_atlas"]
 
-#: Texels evaluated per block (bounds the temporaries).
-_BLOCK = 1 << 18
+#: Texels evaluated per block (bounds the temporaries) and threads.
+_BLOCK = 1 << 16
+_THREADS = max(1, min(4, os.cpu_count() or 1))
 #: Tallest atlas image (a GPU's texture limit).
 MAX_ATLAS_HEIGHT = 16384
 
@@ -150,10 +153,10 @@ def _to_XYZ():
     return linear_srgb_to_XYZ(np.eye(3)).T.astype(np.float32)
 
 
-def _change(table, rgb, rates, years):
-    """``change`` (n, 3) float32 of colours ``rgb`` (n, 3) linear, ``rates`` (S, n)."""
+def _change(table, values, rgb, rates, years):
+    """``change`` (n, 3) float32 of colours ``rgb`` (n, 3) linear, ``rates`` (S, n);
+    ``values`` is ``table.values`` as float32."""
     N, T = table.side, table.T
-    values = table.values.astype(np.float32)
     u = np.clip(rgb, 0.0, 1.0) ** np.float32(1.0 / table.gamma) * np.float32(N - 1)
     b0 = np.minimum(np.floor(u[:, 2]), N - 2).astype(np.int32)
     fb = (u[:, 2] - b0)[:, None]
@@ -169,32 +172,27 @@ def _change(table, rgb, rates, years):
         w[total <= 0, 0] = 1.0
         slots, weights = simplex_slots(w, table.q)
     change = np.zeros((len(rgb), 3), dtype=np.float32)
-    flat = values.reshape(table.slots * T * N, N, N, 3)
+    cells = values.reshape(-1, 3)
+    x0 = np.minimum(np.floor(u[:, 0]), N - 2).astype(np.int64)   # bilinear over (r, g):
+    y0 = np.minimum(np.floor(u[:, 1]), N - 2).astype(np.int64)   # a Linear image lookup
+    fx = (u[:, 0] - x0)[:, None]
+    fy = (u[:, 1] - y0)[:, None]
+    inside = y0 * N + x0
+
+    def bilinear(tile):
+        i = tile.astype(np.int64) * (N * N) + inside
+        a = cells[i] + fx * (cells[i + 1] - cells[i])
+        b = cells[i + N] + fx * (cells[i + N + 1] - cells[i + N])
+        return a + fy * (b - a)
+
     for v in range(slots.shape[1]):
-        corner = []
-        for dt in (0, 1):
-            for db in (0, 1):
-                tile = (slots[:, v] * T + t0 + dt) * N + b0 + db
-                corner.append(_bilinear_tiles(flat, tile, u[:, 0], u[:, 1]))
+        corner = [bilinear((slots[:, v] * T + t0 + dt) * N + b0 + db)
+                  for dt in (0, 1) for db in (0, 1)]
         lo_t = corner[0] + fb * (corner[1] - corner[0])
         hi_t = corner[2] + fb * (corner[3] - corner[2])
         step = lo_t + ft * (hi_t - lo_t)
         change += step if weights is None else step * weights[:, v:v + 1]
     return change
-
-
-def _bilinear_tiles(flat, tile, x, y):
-    """Tiles ``flat[tile]`` (N, N, 3) each sampled bilinearly at (x = r, y = g)."""
-    N = flat.shape[1]
-    x0 = np.minimum(np.floor(x), N - 2).astype(np.int64)
-    y0 = np.minimum(np.floor(y), N - 2).astype(np.int64)
-    fx = (x - x0)[:, None]
-    fy = (y - y0)[:, None]
-    cells = flat.reshape(-1, 3)
-    i = (tile.astype(np.int64) * N + y0) * N + x0
-    a = cells[i] + fx * (cells[i + 1] - cells[i])
-    b = cells[i + N] + fx * (cells[i + N + 1] - cells[i + N])
-    return a + fy * (b - a)
 
 
 def evaluate(table, rgb, rates, years, out=None):
@@ -225,14 +223,24 @@ def evaluate(table, rgb, rates, years, out=None):
         res[:, :3] = rgb
         return res
     to_XYZ, to_rgb = _to_XYZ(), _to_rgb()
-    for s0 in range(0, n, _BLOCK):
+    values = table.values.astype(np.float32)
+
+    def block(s0):
         s1 = min(s0 + _BLOCK, n)
         c = rgb[s0:s1]
-        change = _change(table, c, rates[:, s0:s1], float(years))
+        change = _change(table, values, c, rates[:, s0:s1], float(years))
         aged = (c @ to_XYZ.T) * np.exp(change)
         planes = np.ascontiguousarray((aged @ to_rgb.T).T)
         into_gamut_planes(planes)
         res[s0:s1, :3] = planes.T
+
+    starts = range(0, n, _BLOCK)
+    if n > _BLOCK and _THREADS > 1:          # numpy releases the GIL in the gathers
+        with ThreadPoolExecutor(_THREADS) as pool:
+            list(pool.map(block, starts))
+    else:
+        for s0 in starts:
+            block(s0)
     return res
 
 
