@@ -400,3 +400,31 @@ def test_an_imported_gltf_model_renders_its_original_pixels_at_zero_years(blende
     old = _render(scene, tmp_path, "old.exr")
     assert np.median(delta_E_2000(lab(old[cube_px] / before.max()),
                                   lab(before[cube_px] / before.max()))) > 1.0
+
+
+def test_a_procedural_colour_applies_as_the_group_renders(textured):
+    """The baked path: a procedural Base Color ages in the material from the shading
+    point's colour; Apply to Images bakes that colour (the group muted) and ages it with
+    the numpy twin, which agrees with the group at the texel centres."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.apply import aged_pixels
+
+    tree = textured["material"].node_tree
+    image_node = next(n for n in tree.nodes if n.type == "TEX_IMAGE")
+    wave = tree.nodes.new("ShaderNodeTexWave")           # smooth bands of colour
+    wave.inputs["Scale"].default_value = 1.5
+    ramp = tree.nodes.new("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[0].color = (0.6, 0.15, 0.3, 1.0)
+    ramp.color_ramp.elements[1].color = (0.2, 0.5, 0.7, 1.0)
+    tree.links.new(wave.outputs["Fac"], ramp.inputs["Fac"])
+    tree.links.new(ramp.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
+    tree.nodes.remove(image_node)
+    _bake_and_age(years=10)
+    copy = the_copy(textured["material"])
+    assert copy.lightfade.path == "BAKED" and copy.lightfade.albedo is None   # Age bakes nothing
+    numpy = aged_pixels(bpy.context.scene, copy, 10.0)[1:-1, 1:-1, :3]
+    assert copy.lightfade.albedo is not None                 # baked once applied
+    nodes = node_evaluation(copy)[1:-1, 1:-1]
+    dE = delta_E_2000(lab(nodes), lab(numpy))
+    assert np.percentile(dE, 99) <= 0.3, np.percentile(dE, 99)
+    assert api.material_plan(bpy.context.scene)[0]["status"] == "aged"
