@@ -24,6 +24,7 @@ import numpy as np
 from .cache import directory
 from .colorimetry import linear_srgb_to_XYZ, reflectance_to_XYZ, srgb_encode
 from .colourtable import ColourTable, cube_colours, mix_resolution
+from .fading import simulate
 from .grid import FadeGrid, GridSettings
 from .lattice import concentration_axis, mix_lattice
 from .restore import restore
@@ -98,11 +99,17 @@ def _simulate(recipe, spectra, doses, settings, say):
              if axes else np.zeros((1, 0)))
     c = recipe.concentrations(nodes)
     shape = tuple(a.size for a in axes)
+    A, Sc, ground = recipe.optics(WAVELENGTHS)
+    beta = recipe.sensitivity(WAVELENGTHS)
     change = np.empty((mixes.shape[0], doses.size) + shape + (3,), dtype=np.float32)
     initial = None
     for k, w in enumerate(mixes):
         say(0.1 + 0.7 * k / len(mixes), f"simulating {recipe.name}: light mix {k + 1}/{len(mixes)}")
-        r = recipe.simulate(c, w @ spectra, doses[-1], record=doses[1:])
+        # the recipe's own solver, stepping at the table's dose nodes only (its extra
+        # cubic nodes, Recipe.simulate, would all lie past 10⁸ lux·h on this long axis)
+        r = simulate(A, Sc, c, beta, w @ spectra, ground, WAVELENGTHS,
+                     thickness=recipe.thickness, duration=doses[-1], record=doses[1:],
+                     yields=recipe.yield_matrix(), **recipe.solver())
         XYZ0 = np.maximum(reflectance_to_XYZ(r.initial, WAVELENGTHS), _XYZ_FLOOR)
         XYZ = np.maximum(reflectance_to_XYZ(r.history, WAVELENGTHS), _XYZ_FLOOR)
         if axes:
