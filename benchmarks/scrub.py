@@ -12,10 +12,6 @@ aged copy of its own object, sharing the data images). Printed side by side:
   process CPU time of ``api.set_years`` (it also checks every copy for staleness), of
   the slider (``scene.lightfade.years = y``) and of ``scene.frame_set`` with keyframed
   years, medians over 9 changes;
-* **old** — what every years change cost before (commit b660256): per texture, the
-  evaluator of ``TextureAger.age`` (:func:`benchmarks.evaluator._before`, the same
-  table) and ``Image.pixels.foreach_set`` + ``update`` of the size's image, measured
-  once per size and multiplied by N (its cost is per texel);
 * **apply** — ``api.apply_aging`` now: the numpy evaluator (its blocks on two threads)
   and the pixel write, once per texture, when real aged images are wanted; CPU time of
   the process and wall time.
@@ -37,7 +33,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import bpy  # noqa: E402  (first: it puts Blender's modules on the path)
 import addon_utils  # noqa: E402
 
-from benchmarks.evaluator import _before  # noqa: E402
 from benchmarks.problem import synthetic_photo  # noqa: E402
 
 
@@ -104,28 +99,6 @@ def cpu(fn, repeat=9):
     return statistics.median(times)
 
 
-def old_per_texture(scene, floor, size):
-    """CPU seconds the old path spent per years change on one ``size``² texture."""
-    from lightfade_addon.blender import runtime
-    from lightfade_addon.blender.copies import copies_of
-
-    (copy,) = copies_of(obj=floor)
-    table, texels, (sigma, rows, weights), _original = runtime.evaluator(copy)
-    values16 = np.ascontiguousarray(table.values.reshape(-1, 3), dtype=np.float16)
-    to_rgb = np.linalg.inv(np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722],
-                                     [0.0193, 0.1192, 0.9505]])).astype(np.float32)
-    image = bpy.data.images.new("Old", size, size, alpha=True, float_buffer=True)
-    buf = np.ones((size * size, 4), np.float32)
-
-    def change(k):
-        _before(values16, rows, weights, sigma, table.T, texels.XYZ, to_rgb,
-                (2.0 + k) ** (1 / 3), buf)
-        image.pixels.foreach_set(buf.ravel())
-        image.update()
-
-    return cpu(change, repeat=3)
-
-
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--full", action="store_true", help="also 4096² textures")
@@ -135,10 +108,9 @@ def main(argv=None):
     sizes = (1024, 2048, 4096) if args.full else (1024, 2048)
     counts = (1, 5, 30)
     print(f"{'textures':>8} {'size':>6} {'new set_years':>13} {'new slider':>10} "
-          f"{'new frame':>9} {'old per change':>14} {'ratio':>8} {'apply':>8}")
+          f"{'new frame':>9} {'apply':>8}")
     for size in sizes:
         scene, floor = build(size)
-        old = old_per_texture(scene, floor, size)
         t0 = time.process_time()
         api.apply_aging(scene, 10.0)                 # reads the data images once
         first = time.process_time() - t0
@@ -151,10 +123,9 @@ def main(argv=None):
         wall = min(walls)
         api.live_aging(scene)
         mt = size * size / 1e6
-        print(f"{size}²: apply_aging {first:.2f} s the first time (data images read), then "
+        print(f"{size}²: apply_aging {first:.2f} s the first time (table read), then "
               f"{apply * 1e3:.0f} ms CPU / {wall * 1e3:.0f} ms wall ({wall * 1e3 / mt:.0f} ms "
-              f"per megatexel); the old path {old * 1e3:.0f} ms ({old * 1e3 / mt:.0f} ms per "
-              f"megatexel, one thread) per change: {old / wall:.1f}x wall, {old / apply:.1f}x CPU")
+              f"per megatexel)")
         made = 1
         for n in counts:
             duplicate(scene, floor, n - made + 1) if n > made else None
@@ -169,11 +140,9 @@ def main(argv=None):
             api.keyframe_years(scene, [(1, 0.0), (100, 60.0)])
             t_frame = cpu(lambda k: scene.frame_set(1 + 11 * k))
             scene.animation_data_clear()
-            new = max(t_set, t_frame)
             print(f"{n:>8} {size:>5}² {t_set * 1e3:>10.1f} ms {t_slider * 1e3:>7.2f} ms "
-                  f"{t_frame * 1e3:>6.1f} ms {n * old * 1e3:>11.0f} ms "
-                  f"{n * old / max(new, 1e-6):>7.0f}x {apply * n:>6.1f} s")
-    print("old per change = N x the measured cost of one texture (per texel: it scales);")
+                  f"{t_frame * 1e3:>6.1f} ms {apply * n:>6.1f} s")
+    print("target: a years change <= 50 ms CPU (issue 20);")
     print("apply = N x api.apply_aging of one texture, warm (numpy evaluator + pixel write).")
 
 

@@ -81,8 +81,9 @@ def set_years(scene=None, years=0.0):
     """Show ``years`` on the aged materials: one write of the scene's years property,
     which the materials evaluate themselves.
 
-    Stale materials (new bake, changed recipe or schedule), and materials prepared for
-    fewer years, are prepared again first (said in one line each). Raises
+    Nothing is prepared for any number of years (the tables' dose axis is absolute and
+    saturates). Stale materials (changed recipe, schedule or light groups) are named in
+    one line each with what refreshes them (Age), as the panel says. Raises
     :class:`AgingError` for years that are not a finite number >= 0, before anything
     changes. Returns the seconds taken.
     """

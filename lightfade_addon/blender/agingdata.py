@@ -1,158 +1,166 @@
-"""An aged copy's aging data as images in the file: keys, dose rates, the table.
+"""The aging's data in the file: one shared table image per recipe and light set.
 
-The node group (:mod:`.nodes.aging`) reads these images and the numpy evaluator
-(:func:`..core.table.evaluate`) is rebuilt from the same images (:func:`read`), so the
-two evaluators share one table.  The images are LightFade's own datablocks (prefix
-``LF_``), packed into the .blend on save and removed by Reset:
+An aged copy's node group (:mod:`.nodes.aging`) reads two kinds of images, and nothing
+Age writes per texel:
 
-``LF_Key_<copy>``  8-bit RGBA, Non-Color, the albedo's size: each texel's colour key
-    (:func:`..core.table.key_pixels`).
-``LF_Rate_<copy>`` float RGBA, Non-Color, the exposure maps' size: annual dose from
-    each light spectrum (channels R, G, B, A; up to four spectra) as a fraction of the
-    table's last dose node (GPUs may hold float textures in half precision, whose
-    largest value, 65504, a dose in lux·h passes).
-``LF_Table_<copy>`` float RGBA, Non-Color: the aging table
-    (:func:`..core.table.table_pixels`); its shape is in the image's custom property
-    ``lightfade_table``.
-``LF_New_<copy>``  float, linear: the texture restored to new (only for a material
-    with a history, *Already Aged*): the colour the group ages from.
+``LF_Table_<key>``  float RGBA, Non-Color, half precision: the colour table
+    (:func:`..core.colourtable.atlas_pixels`) of one recipe (with its sensitivity and
+    history) under one set of light spectra, shared by every copy using them; what it
+    is in its custom property ``lightfade_table`` (:meth:`..core.colourtable.ColourTable.info`).
+the object's exposure maps  (``LF_Exposure_*``, made by the bake): lux per light group,
+    read directly, so a re-bake (which remaps the old images onto the new) reaches every
+    view at once.
+
+The numpy evaluator (:func:`..core.colourtable.evaluate`) reads the same table back
+(:func:`read_table`) and the same maps (:func:`rates`), so both evaluators share them.
 """
 
 from __future__ import annotations
 
+import os
+import shutil
+import tempfile
+from dataclasses import dataclass
+
 import bpy
 import numpy as np
 
-from ..core.lights import dose_rates, spectra_keys
-from ..core.table import AgingTable, Texels, key_pixels, table_layout, table_pixels, \
-    texel_positions
+from ..core.colourtable import atlas_layout, atlas_pixels, table_from_atlas
+from ..core.lights import spectra_keys
+from ..core.tablebuild import TableSettings, load_or_build, table_key
 from .errors import AgingError
-from .nodes.aging import GroupSpec
+from .exposure import exposure_images
 from .pixels import read_rgba, resample, write_rgba
 
-KEY_PREFIX = "LF_Key_"
-RATE_PREFIX = "LF_Rate_"
 TABLE_PREFIX = "LF_Table_"
-NEW_PREFIX = "LF_New_"
-PREFIXES = (KEY_PREFIX, RATE_PREFIX, TABLE_PREFIX, NEW_PREFIX)
-#: Custom property of the table image: the table's shape and dose axis.
+#: Images of older versions (per-copy keys, rates, restored textures), removed on Age/Reset.
+OLD_PREFIXES = ("LF_Key_", "LF_Rate_", "LF_New_")
+PREFIXES = (TABLE_PREFIX, *OLD_PREFIXES)
+#: Custom property of the table image: the table's shape and axes.
 TABLE_INFO = "lightfade_table"
-#: Light spectra a rate image holds (its four channels).
+#: Light spectra one table (one aged material) mixes.
 MAX_SPECTRA = 4
+#: The table every preparation builds (the tests of bookkeeping patch in a coarser one).
+TABLE_SETTINGS = TableSettings()
 
 
-def _image(name, size, float_buffer, colorspace="Non-Color"):
-    old = bpy.data.images.get(name)
-    if old is not None:
-        bpy.data.images.remove(old)
-    w, h = size
-    image = bpy.data.images.new(name, w, h, alpha=True, float_buffer=float_buffer)
-    image.colorspace_settings.name = colorspace
-    image.alpha_mode = "CHANNEL_PACKED"          # data, never premultiplied
+@dataclass(frozen=True)
+class MapInput:
+    """One exposure map as the group reads it: lux image, its table spectrum, lux·h a year
+    per lux (hours a day × days a year)."""
+
+    image: object
+    spectrum: int
+    hours: float
+
+
+def map_inputs(scene, obj):
+    """``(inputs, spectra keys)``: the object's counted exposure maps and the distinct
+    (spectrum, UV filter) pairs they are lit by, in table order."""
+    maps = exposure_images(scene, obj)
+    keys = spectra_keys([light for _image, light in maps])
+    if len(keys) > MAX_SPECTRA:
+        raise AgingError(f"Object '{obj.name}' is lit by {len(keys)} light spectra; at most "
+                         f"{MAX_SPECTRA} can age one material: give some lamps the same Spectrum")
+    inputs = [MapInput(image, keys.index((light.spectrum, light.uv_filter)),
+                       float(light.hours_per_day * light.days_per_year)) for image, light in maps]
+    return inputs, keys
+
+
+def find_table(key):
+    """The table image of ``key`` in the file, or None."""
+    image = bpy.data.images.get(TABLE_PREFIX + key[:16])
+    if image is not None and image.get(TABLE_INFO, {}).get("key") == key:
+        return image
+    return None
+
+
+def ensure_table(recipe, keys, prior=None, progress=None, restore_kw=None):
+    """The table image of ``recipe`` under spectra ``keys`` (with history ``prior``):
+    found in the file, else loaded from the disk cache or built, and written."""
+    key = table_key(recipe, keys, TABLE_SETTINGS, prior)
+    image = find_table(key)
+    if image is not None:
+        return image, None
+    table = load_or_build(recipe, keys, TABLE_SETTINGS, prior, progress,
+                          restore_kw=restore_kw)
+    image = _half_exr(TABLE_PREFIX + key[:16], atlas_pixels(table))
+    image[TABLE_INFO] = table.info()
+    return image, table
+
+
+def _half_exr(name, rgba):
+    """A packed image holding ``rgba`` (H, W, 4) as a half-float, ZIP-compressed OpenEXR.
+
+    Blender packs a generated float image as full-float EXR (16 bytes a texel); the
+    table's values are half precision already, so the file is written as half floats
+    (8 bytes a texel before compression, lossless here) and that file is packed.
+    """
+    H, W = rgba.shape[:2]
+    tmp = bpy.data.images.new(name + "_tmp", W, H, alpha=True, float_buffer=True)
+    folder = tempfile.mkdtemp(prefix="lightfade_")
+    path = os.path.join(folder, "table.exr")
+    try:
+        tmp.colorspace_settings.name = "Non-Color"
+        write_rgba(tmp, rgba)
+        settings = bpy.context.scene.render.image_settings
+        saved = {k: getattr(settings, k) for k in ("file_format", "color_depth", "exr_codec",
+                                                   "color_mode")}
+        try:
+            settings.file_format, settings.color_mode = "OPEN_EXR", "RGBA"
+            settings.color_depth, settings.exr_codec = "16", "ZIP"
+            tmp.save_render(path, scene=bpy.context.scene)
+        finally:
+            for k, v in saved.items():
+                setattr(settings, k, v)
+        image = bpy.data.images.load(path)
+        image.name = name
+        image.colorspace_settings.name = "Non-Color"
+        image.alpha_mode = "CHANNEL_PACKED"
+        image.use_half_precision = True
+        image.pack()
+        image.filepath = ""
+    finally:
+        bpy.data.images.remove(tmp)
+        shutil.rmtree(folder, ignore_errors=True)
     return image
 
 
-def write(copy, ager, lights, at_bake, restored=False):
-    """Write ``ager``'s table and texel data into the copy's images.
-
-    ``at_bake`` are the lights' exposure maps at the bake's resolution (the rate image).
-    """
-    props = copy.lightfade
-    keys = spectra_keys(lights)
-    if len(keys) > MAX_SPECTRA:
-        raise AgingError(f"Material '{props.source.name}' on '{props.aged_object.name}' is "
-                         f"lit by {len(keys)} light spectra; at most {MAX_SPECTRA} can age "
-                         "in one material: give some lamps the same Spectrum")
-    remove(copy)                                  # the previous preparation's images
-    H, W = ager.shape[:2]
-    key = _image(KEY_PREFIX + copy.name, (W, H), False)
-    write_rgba(key, key_pixels(ager.texels.key, (H, W)).astype(np.float32) / 255.0)
-
-    h, w = at_bake.shape[1:]
-    rates = dose_rates(lights, at_bake.reshape(len(lights), -1), h * w, keys)
-    rgba = np.zeros((h * w, 4), dtype=np.float32)
-    rgba[:, :len(keys)] = rates.T / np.float32(ager.table.max_dose)
-    rate = _image(RATE_PREFIX + copy.name, (w, h), True)
-    write_rgba(rate, rgba)
-    rate.use_half_precision = True                # renderers may hold it as half floats
-
-    table = ager.table
-    tw, th = table_layout(table)
-    timage = _image(TABLE_PREFIX + copy.name, (tw, th), True)
-    write_rgba(timage, table_pixels(table))
-    timage.use_half_precision = True              # its values are half precision already
-    timage[TABLE_INFO] = dict(max_dose=table.max_dose, q=table.q, S=table.S, T=table.T,
-                              keys=table.keys)
-
-    new = None
-    if restored:
-        new = _image(NEW_PREFIX + copy.name, (W, H), True, "Linear Rec.709")
-        pixels = np.ones((H * W, 4), dtype=np.float32)
-        pixels[:, :3] = ager.original.reshape(-1, 3)
-        write_rgba(new, pixels)
-    props.key_image, props.rate_image, props.table_image, props.restored_image = \
-        key, rate, timage, new
+def table_info(image):
+    info = image[TABLE_INFO]
+    return {k: info[k] for k in info.keys()}
 
 
-def remove(copy):
-    """Remove the copy's aging images (if any)."""
-    props = copy.lightfade
-    for image in (props.key_image, props.rate_image, props.table_image, props.restored_image):
-        if image is not None:
+def read_table(image):
+    """The :class:`..core.colourtable.ColourTable` a table image holds."""
+    if image is None or TABLE_INFO not in image:
+        raise AgingError("An aged material lost its aging table: press Age")
+    return table_from_atlas(read_rgba(image), table_info(image))
+
+
+def rates(inputs, S, shape):
+    """(S, H·W) float32 annual dose per spectrum, lux·h, sampled at the texel centres of
+    an (H, W) texture (bilinear, as the group's Linear lookups of the maps)."""
+    out = np.zeros((S, shape[0] * shape[1]), dtype=np.float32)
+    for m in inputs:
+        lux = np.maximum(read_rgba(m.image)[..., 0], 0.0)
+        out[m.spectrum] += resample(lux, shape).reshape(-1).astype(np.float32) \
+            * np.float32(m.hours)
+    return out
+
+
+def used_tables():
+    """Table images some aged copy reads."""
+    return {m.lightfade.table_image for m in bpy.data.materials
+            if m.lightfade.source is not None and m.lightfade.table_image is not None}
+
+
+def purge_tables():
+    """Remove table images no aged copy reads, and images of older versions."""
+    used = used_tables()
+    for image in list(bpy.data.images):
+        if image.name.startswith(TABLE_PREFIX) and image not in used:
             bpy.data.images.remove(image)
-    props.key_image = props.rate_image = props.table_image = props.restored_image = None
+        elif image.name.startswith(OLD_PREFIXES):
+            bpy.data.images.remove(image)
 
-
-def table_info(copy):
-    info = copy.lightfade.table_image[TABLE_INFO]
-    return {k: info[k] for k in ("max_dose", "q", "S", "T", "keys")}
-
-
-def key_shape(copy):
-    """(H, W) of the key image."""
-    return tuple(copy.lightfade.key_image.size)[::-1]
-
-
-def group_spec(copy, extension="EXTEND"):
-    """The :class:`.nodes.aging.GroupSpec` of the copy's images."""
-    props = copy.lightfade
-    info = table_info(copy)
-    slots = (info["q"] + 1) ** (info["S"] - 1)
-    T = info["T"]
-    tw, th = props.table_image.size
-    return GroupSpec(uv_map=props.uv_map, key_image=props.key_image,
-                     key_size=tuple(props.key_image.size), key_extension=extension,
-                     rate_image=props.rate_image, S=info["S"], table_image=props.table_image,
-                     table_size=(tw, th), T=T, slots=slots, per_row=tw // T, q=info["q"],
-                     max_dose=info["max_dose"])
-
-
-def fingerprint(copy):
-    """What :func:`read` depends on: the images (new ones on every preparation)."""
-    props = copy.lightfade
-    return tuple(i.as_pointer() if i is not None else 0 for i in
-                 (props.key_image, props.rate_image, props.table_image, props.albedo,
-                  props.restored_image))
-
-
-def read(copy, original):
-    """(table, texels, positions, original) from the copy's images; ``original`` is the
-    (H, W, 4) linear colour the keys belong to."""
-    props = copy.lightfade
-    if props.key_image is None or props.table_image is None or props.rate_image is None:
-        raise AgingError(f"Aged material '{copy.name}' lost its aging images: press Age")
-    info = table_info(copy)
-    S, T, q, K = info["S"], info["T"], info["q"], info["keys"]
-    slots = (q + 1) ** (S - 1)
-    values = read_rgba(props.table_image).reshape(-1, 4)[:K * slots * T, :3]
-    table = AgingTable.from_values(values.reshape(K, slots, T, 3), info["max_dose"], S, q)
-    codes = np.rint(read_rgba(props.key_image)[..., :3] * 255.0).astype(np.int32)
-    key = (codes[..., 0] << 16) | (codes[..., 1] << 8) | codes[..., 2]
-    H, W = key.shape
-    rate_map = read_rgba(props.rate_image) * np.float32(info["max_dose"])
-    rates = np.stack([resample(rate_map[..., s], (H, W)).reshape(-1) for s in range(S)])
-    if original.shape[:2] != (H, W):
-        raise AgingError(f"Aged material '{copy.name}': its albedo is {original.shape[1]} x "
-                         f"{original.shape[0]}, its keys {W} x {H}: press Age")
-    texels = Texels.from_linear(key, rates, original[..., :3])
-    return table, texels, texel_positions(table, texels), original

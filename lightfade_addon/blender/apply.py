@@ -1,12 +1,13 @@
 """Years in the material, and real aged images when they are wanted.
 
 Years reach every aged copy through the scene's custom property (:mod:`.years`):
-setting them costs no Python work per material. This module keeps the copies up to
-date with their inputs and writes real aged pixels on request:
+setting them costs no Python work per material, and nothing is ever prepared for
+them (the colour table's dose axis is absolute and saturates). This module says when a
+copy no longer matches its inputs and writes real aged pixels on request:
 
-* :func:`update_scene` — the years for the whole scene (``api.set_years``): stale
-  copies (a new bake, a changed recipe or schedule) and copies whose prepared range
-  the years pass are prepared again first (:func:`refresh`), each said in one line;
+* :func:`update_scene` — the years for the whole scene (``api.set_years``): one
+  property write; stale copies are named in one line each, with what refreshes them
+  (Age), as the panel says;
 * :func:`apply_aging` — real aged images through the numpy evaluator, wired into the
   copies in place of the node group (export, other engines, painting);
   :func:`live_aging` puts the groups back.
@@ -20,15 +21,16 @@ import bpy
 import numpy as np
 
 from . import agingdata, runtime
-from .copies import APPLIED_NAME, GROUP_NODE, TREE_TAG, copies_of, walk
+from .albedo import albedo_image, bake_albedos
+from .copies import APPLIED_NAME, GROUP_NODE, copies_of, walk
 from .errors import AgingError, check_years
-from .exposure import exposure_shape, exposure_uv
-from .grids import purge
-from .nodes.aging import new_group
+from .exposure import exposure_shape, exposure_signature, exposure_uv
 from .pixels import write_rgba
+from .source import find_colour_socket
 from .years import get_years, write_years
 from ..core.colorimetry import srgb_encode
-from ..core.table import evaluate
+from ..core.colourtable import evaluate
+from .nodes.aging import GROUP_VERSION
 
 #: Prefix of the images :func:`apply_aging` writes.
 APPLIED_PREFIX = "LF_Applied_"
@@ -41,23 +43,36 @@ def aged_copies(scene):
     return [c for c in copies_of() if c.lightfade.aged_object in objects]
 
 
+#: What refreshes a stale copy, said the same way everywhere (panel, info, set_years).
+REFRESH = "press Age"
+
+
 def stale_reason(scene, copy):
     """Why ``copy`` no longer matches its inputs ('' when up to date)."""
     props = copy.lightfade
+    if runtime.group_version(copy) != GROUP_VERSION:
+        return "its aging node group is from an older LightFade"
     if props.signature != runtime.signature(scene, copy):
-        return "exposure, schedule or recipe changed since Age"
+        return "exposure maps, schedule or recipe changed since Age"
+    if props.aged_image is not None and props.aged_image.get(_APPLIED_SIGNATURE) != \
+            exposure_signature(scene, props.aged_object):
+        return "applied images predate the last exposure bake"
     return ""
+
+
+def stale_message(scene, copy):
+    """``"stale: <why>: <what refreshes it>"`` or ''."""
+    why = stale_reason(scene, copy)
+    if not why:
+        return ""
+    if why.startswith("applied"):
+        return f"stale: {why}: press Apply Aging"
+    return f"stale: {why}: {REFRESH}"
 
 
 def needs_age(scene, copy):
-    """Why a stale copy needs the Age button (a new Cycles albedo bake), or ''."""
-    props = copy.lightfade
-    obj = props.aged_object
-    if props.path == "BAKED" and props.albedo is not None and obj is not None:
-        shape = exposure_shape(obj)
-        if shape != tuple(props.albedo.size)[::-1] or exposure_uv(obj) != props.uv_map:
-            return "the exposure was baked at another size or UV map: press Age"
-    return ""
+    """Why a stale copy needs the Age button: every stale copy does (kept for callers)."""
+    return REFRESH if stale_reason(scene, copy) else ""
 
 
 def find_nodes(tree, name):
@@ -75,88 +90,89 @@ def _user_image_node(copy):
 
 
 def _extension(copy):
-    """The wrap mode of the user's image on the direct path (keys follow it)."""
+    """The wrap mode of the user's image on the direct path (applied images follow it)."""
     node = _user_image_node(copy)
     if node is not None and node.extension in ("REPEAT", "EXTEND", "MIRROR"):
         return node.extension
     return "EXTEND"
 
 
-def build_group(copy):
-    """A new aging node group for the copy's current images."""
-    group = new_group(GROUP_PREFIX + copy.name, agingdata.group_spec(copy, _extension(copy)))
-    group[TREE_TAG] = True
-    return group
-
-
-def refresh(scene, copy, max_years=None):
-    """Prepare ``copy`` again from the file's data and put the new group in place."""
-    props = copy.lightfade
-    blocked = needs_age(scene, copy)
-    if blocked:
-        raise AgingError(f"Material '{props.source.name}' on '{props.aged_object.name}' is "
-                         f"stale: {blocked}")
-    if max_years is not None:
-        props.max_years = max_years
-    obj = props.aged_object
-    runtime.prepare(scene, copy, exposure_shape(obj) or (64, 64))
-    props.signature = runtime.signature(scene, copy)
-    group = build_group(copy)
-    for _tree, node in find_nodes(copy.node_tree, GROUP_NODE):
-        old = node.node_tree
-        node.node_tree = group
-        if old is not None and old != group and old.users == 0:
-            bpy.data.node_groups.remove(old)
-    if props.aged_image is not None:                 # applied pixels are now out of date
-        apply_copy(copy, get_years(scene))
-
-
 def update_scene(scene, years=None, report=print):
     """Show ``years`` (default: the scene's) on every aged copy; seconds taken.
 
-    Setting the years is one custom-property write. A stale copy, or one whose
-    prepared range ``years`` passes, is prepared again first (and said so); one that
-    needs Age is left as it was and reported in one line.
+    Setting the years is one custom-property write and prepares nothing. Each stale
+    copy is named in one line with what refreshes it (as the panel says).
     """
     t0 = time.perf_counter()
     years = check_years(get_years(scene) if years is None else years)
-    refreshed = False
     for copy in aged_copies(scene):
-        props = copy.lightfade
-        stale = props.signature != runtime.signature(scene, copy)
-        short = years > props.max_years
-        if not (stale or short):
-            continue
-        try:
-            if short:
-                report(f"LightFade: '{props.source.name}' on '{props.aged_object.name}' was "
-                       f"prepared for {props.max_years:g} years: preparing "
-                       f"{runtime.prepared_range(years):g}")
-            refresh(scene, copy, runtime.prepared_range(years) if short else None)
-        except AgingError as err:
-            report(f"LightFade: {err}")
-        else:
-            refreshed = True
-    if refreshed:
-        purge(scene, {c.lightfade.grid_key for c in copies_of()})
+        message = stale_message(scene, copy)
+        if message:
+            props = copy.lightfade
+            report(f"LightFade: '{props.source.name}' on '{props.aged_object.name}' is "
+                   f"{message}")
     write_years(scene, years)
     return time.perf_counter() - t0
 
 
-def aged_pixels(copy, years):
-    """(H, W, 4) float32 linear aged colour of ``copy`` (the numpy evaluator)."""
-    table, texels, positions, original = runtime.evaluator(copy)
-    H, W = agingdata.key_shape(copy)
-    rgba = original.reshape(H * W, 4).copy()          # zero years: the original itself
-    if years > 0:
-        evaluate(table, texels, years, positions, out=rgba)
+#: Custom property of an applied image: the exposure signature it was computed from.
+_APPLIED_SIGNATURE = "lightfade_exposure"
+
+
+def _view_layer(scene):
+    context = bpy.context
+    return context.view_layer if context.scene == scene else scene.view_layers[0]
+
+
+def ensure_albedo(scene, copy):
+    """The copy's Base Color as a float image in its exposure UV map (baked path): baked
+    by Cycles with the aging group muted, at the exposure maps' size, when not at hand."""
+    props = copy.lightfade
+    obj = props.aged_object
+    shape = exposure_shape(obj)
+    if props.albedo is not None and tuple(props.albedo.size)[::-1] == shape:
+        return props.albedo
+    colour, problem = find_colour_socket(copy)
+    if problem:
+        raise AgingError(problem)
+    props.albedo = albedo_image(copy, shape)
+    muted = [(n, n.mute) for _t, n in walk(copy.node_tree) if n.name == GROUP_NODE]
+    try:
+        for node, _was in muted:            # a muted group passes the artist's colour on
+            node.mute = True
+        bake_albedos(scene, _view_layer(scene), obj, [(copy, colour, props.albedo)],
+                     exposure_uv(obj), scene.lightfade.bake_margin)
+    finally:
+        for node, was in muted:
+            node.mute = was
+    return props.albedo
+
+
+def original_pixels(scene, copy):
+    """(H, W, 4) linear colour the copy ages, at its texture's resolution."""
+    props = copy.lightfade
+    if props.path == "BAKED":
+        ensure_albedo(scene, copy)
+    return runtime.original_rgba(copy, exposure_shape(props.aged_object) or (64, 64))
+
+
+def aged_pixels(scene, copy, years):
+    """(H, W, 4) float32 linear aged colour of ``copy`` (the numpy evaluator): its colour
+    at each texel centre lit by the exposure maps sampled there, as the group does."""
+    table = runtime.evaluator(copy)
+    original = original_pixels(scene, copy)
+    H, W = original.shape[:2]
+    rgba = original.reshape(H * W, 4).copy()
+    inputs, _keys = agingdata.map_inputs(scene, copy.lightfade.aged_object)
+    evaluate(table, rgba[:, :3], agingdata.rates(inputs, table.S, (H, W)), years, out=rgba)
     return rgba.reshape(H, W, 4)
 
 
-def apply_copy(copy, years):
+def apply_copy(scene, copy, years):
     """Write ``copy``'s aged pixels at ``years`` into its applied image and wire it."""
     props = copy.lightfade
-    H, W = agingdata.key_shape(copy)
+    rgba = aged_pixels(scene, copy, years)
+    H, W = rgba.shape[:2]
     image = props.aged_image
     if image is None or tuple(image.size) != (W, H):
         if image is not None:
@@ -165,8 +181,9 @@ def apply_copy(copy, years):
                                     float_buffer=True)
         image.colorspace_settings.name = "Linear Rec.709"
         props.aged_image = image
-    write_rgba(image, aged_pixels(copy, years))
+    write_rgba(image, rgba)
     image["lightfade_years"] = float(years)
+    image[_APPLIED_SIGNATURE] = exposure_signature(scene, props.aged_object)
     for tree, node in find_nodes(copy.node_tree, GROUP_NODE):
         socket = node.outputs[0].links[0].to_socket if node.outputs[0].links else None
         if socket is None:
@@ -189,10 +206,10 @@ def apply_copy(copy, years):
     return image
 
 
-def write_aged_file(copy, years, path):
+def write_aged_file(scene, copy, years, path):
     """Write ``copy``'s aged pixels at ``years`` as an image file: ``.png`` (8-bit sRGB)
     or ``.exr`` (float, linear Rec.709), through Blender's own image writer."""
-    rgba = aged_pixels(copy, years)
+    rgba = aged_pixels(scene, copy, years)
     H, W = rgba.shape[:2]
     exr = path.lower().endswith(".exr")
     image = bpy.data.images.new("LF_Export", W, H, alpha=True, float_buffer=exr)
@@ -221,7 +238,7 @@ def apply_aging(scene, years=None):
     """
     years = check_years(get_years(scene) if years is None else years)
     update_scene(scene, years)
-    return {copy.name: apply_copy(copy, years) for copy in aged_copies(scene)}
+    return {copy.name: apply_copy(scene, copy, years) for copy in aged_copies(scene)}
 
 
 def live_aging(scene):

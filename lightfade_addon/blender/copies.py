@@ -18,8 +18,6 @@ from .source import tree_at
 AGED_PREFIX = "LF_Aged_"
 #: Name of the group node that ages the Base Color in a copy.
 GROUP_NODE = "LightFade Aging"
-#: Name of the Image Texture node feeding a restored (new) texture into the group.
-NODE_NAME = "LightFade Restored Albedo"
 #: Name of the Image Texture node feeding applied (real) aged pixels (:mod:`.apply`).
 APPLIED_NAME = "LightFade Applied Aging"
 #: Custom property tagging node trees copied for a copy (removed with it).
@@ -97,13 +95,11 @@ def _colour_socket(copy, colour):
     return tree, tree.nodes[colour.node].inputs[colour.socket]
 
 
-def insert_group(copy, colour, group, restored=None):
+def insert_group(copy, colour, group):
     """Put the aging group between the copy's Base Color graph and its BSDF.
 
     The graph's output (or the socket's own colour when unlinked) feeds the group's
-    Color input; ``restored`` (an image of the texture restored to new) feeds it
-    instead for a material with a history.  Idempotent: a second call replaces the
-    group node's tree and inputs.
+    Color input.  Idempotent: a second call replaces the group node's tree.
     """
     tree, socket = _colour_socket(copy, colour)
     bsdf = tree.nodes[colour.node]
@@ -127,19 +123,6 @@ def insert_group(copy, colour, group, restored=None):
         if old is not None and old != group and old.users == 0:
             bpy.data.node_groups.remove(old)
     group[TREE_TAG] = True
-    if restored is not None:
-        image = tree.nodes.get(NODE_NAME) or tree.nodes.new("ShaderNodeTexImage")
-        image.name = image.label = NODE_NAME
-        image.location = (node.location.x - 300, node.location.y - 200)
-        image.image = restored
-        image.interpolation = "Linear"
-        image.extension = "EXTEND"
-        uv = tree.nodes.get(NODE_NAME + " UV") or tree.nodes.new("ShaderNodeUVMap")
-        uv.name = uv.label = NODE_NAME + " UV"
-        uv.location = (image.location.x - 220, image.location.y)
-        uv.uv_map = copy.lightfade.uv_map
-        tree.links.new(uv.outputs["UV"], image.inputs["Vector"])
-        tree.links.new(image.outputs["Color"], node.inputs[0])
     tree.links.new(node.outputs[0], socket)
     return node
 
@@ -150,8 +133,13 @@ def remove_copy(copy):
     trees = [n.node_tree for _t, n in walk(copy.node_tree)
              if n.type == "GROUP" and n.node_tree is not None and n.node_tree.get(TREE_TAG)]
     bpy.data.materials.remove(copy)
-    for tree in trees:      # private to the copy by construction (Blender 4.2 miscounts users)
-        bpy.data.node_groups.remove(tree)
+    # private to the copy by construction, unless a copy of the copy shares them (Blender
+    # 4.2 miscounts users, so the materials are asked)
+    shared = {n.node_tree for m in bpy.data.materials for _t, n in walk(m.node_tree)
+              if n.type == "GROUP" and n.node_tree is not None}
+    for tree in trees:
+        if tree not in shared:
+            bpy.data.node_groups.remove(tree)
 
 
 def walk(tree, depth=0):

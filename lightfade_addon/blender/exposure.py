@@ -3,6 +3,8 @@
 Everything the aging side needs of the exposure bake goes through these functions:
 
 * :func:`lights_and_exposure` — the light groups and their lux maps for an object;
+* :func:`exposure_images` — the map images themselves with their light (read by the
+  aging node group);
 * :func:`exposure_signature` — a digest that changes with a new bake, a changed schedule
   or regrouped emitters (what aged materials compare against to know they are stale);
 * :func:`remove_exposure` — exposure maps (and the UV map the bake made) removed;
@@ -15,6 +17,7 @@ one exception type.
 
 from __future__ import annotations
 
+from ..core.lights import Light
 from . import bake
 from .errors import AgingError
 
@@ -49,6 +52,27 @@ def lights_and_exposure(scene, obj, shape):
         return bake.lights_and_exposure(scene, obj, shape)
     except bake.LightFadeBakeError as err:
         raise AgingError(str(err)) from None
+
+
+def exposure_images(scene, obj):
+    """``[(image, Light)]``: each counted exposure map of ``obj`` (lux while its light
+    group is on) with its light's spectrum and schedule (``lux = 1``).
+
+    Raises :class:`AgingError` when none counts or a group no longer shares one schedule.
+    """
+    out = []
+    try:
+        for item in obj.lightfade.exposure_maps:
+            key = bake.maps.map_key(scene, obj, item) if item.image is not None else None
+            if key is not None:
+                spectrum, uv_filter, hours, days = key
+                out.append((item.image, Light(spectrum, uv_filter, 1.0, hours, days)))
+    except bake.LightFadeBakeError as err:
+        raise AgingError(str(err)) from None
+    if not out:
+        raise AgingError(f"Object \"{obj.name}\" has no exposure maps from enabled emitters: "
+                         "run Bake Exposure first")
+    return out
 
 
 def exposure_problem(scene, obj):

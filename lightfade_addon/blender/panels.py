@@ -74,10 +74,6 @@ class VIEW3D_PT_lightfade_aging(LightFadeSidebarMixin, bpy.types.Panel):
                       icon="ERROR" if status.startswith("stale") else "MATERIAL")
         if len(copies) > 8:
             col.label(text=f"… and {len(copies) - 8} more")
-        beyond = [c for c in copies if c.lightfade.max_years < scene.lightfade.years]
-        if beyond:
-            layout.label(text=f"Past the prepared {beyond[0].lightfade.max_years:g} years: "
-                         "shown at that; press Age to extend", icon="ERROR")
         layout.label(text="Collection and geometry-nodes instances are not aged per instance",
                      icon="INFO")
 
@@ -219,7 +215,7 @@ class MATERIAL_PT_lightfade(bpy.types.Panel):
             box.label(text=copy_status(context.scene, copy))
             lost = copy.lightfade.lost_texels
             if lost:
-                key = copy.lightfade.key_image
+                key = copy.lightfade.albedo
                 share = lost / max(key.size[0] * key.size[1], 1) if key is not None else 0.0
                 box.label(text=f"{plural(lost, 'texel')} ({share:.1%}) faded past recovery: "
                           "their colour when new is a best guess", icon="ERROR")

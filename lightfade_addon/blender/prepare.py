@@ -2,51 +2,40 @@
 
 The order is the promise made to the user: every check that can refuse runs first
 (:func:`.targets.check`, no Cycles work yet) and all problems are reported together;
-then each object gets its own aged copies (:mod:`.copies`), the Base Color of the
-copies on the baked path is evaluated by Cycles (:mod:`.albedo`, one bake per object),
-the aging data are prepared (:mod:`.runtime`) and each copy gets its aging node group
-(:mod:`.nodes.aging`) between its own Base Color graph and its BSDF; the scene's years
-drive them all (:mod:`.years`).
-If anything fails on the way, the copies made so far are removed again.
+then each object gets its own aged copies (:mod:`.copies`), and each copy its aging
+node group (:mod:`.runtime`, :mod:`.nodes.aging`) between its own Base Color graph and
+its BSDF, reading the colour table its recipe and light spectra share (built once for
+the file, :mod:`.agingdata`) and the object's exposure maps; the scene's years drive
+them all (:mod:`.years`). Nothing is done per texel. If anything fails on the way, the
+copies made so far are removed again.
 """
 
 from __future__ import annotations
 
 import bpy
 
-from . import runtime
-from .albedo import albedo_image, bake_albedos
-from .apply import build_group
-from .copies import assign, copies_of, insert_group, make_copy
+from . import agingdata, runtime
+from .copies import assign, copies_of, make_copy
 from .years import write_years
 from .errors import AgingError, check_years
-from .exposure import exposure_shape, exposure_uv
+from .exposure import exposure_uv
 from .grids import purge
 from .reset import remove_aged
 from .targets import check, format_problems, targets
 
 
-def _view_layer(scene):
-    context = bpy.context
-    return context.view_layer if context.scene == scene else scene.view_layers[0]
-
-
-def _new_copy(obj, material, plan, years):
+def _new_copy(obj, material, plan):
     copy = make_copy(obj, material, plan.colour)
     assign(obj, material, copy)
     props = copy.lightfade
     props.path = plan.path
     props.reason = plan.reason
     props.uv_map = exposure_uv(obj)
-    props.max_years = runtime.prepared_range(years)
-    h, w = exposure_shape(obj)
     if plan.path == "DIRECT":
         props.albedo = plan.image
     elif plan.path == "FLAT":
         props.flat_colour = plan.flat
-    else:
-        props.albedo = albedo_image(copy, (h, w))
-    return copy
+    return copy               # the baked path bakes its albedo only when applied (apply.py)
 
 
 def lock_interface(scene):
@@ -77,32 +66,23 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
             remove_aged(old)
     made = []
     try:
-        for obj in dict.fromkeys(obj for obj, _m in pairs):
-            jobs = []
-            for material in (m for o, m in pairs if o == obj):
-                plan = plans[obj, material]
-                copy = _new_copy(obj, material, plan, years)
-                made.append((copy, plan))
-                if plan.path == "BAKED":
-                    jobs.append((copy, plan.colour, copy.lightfade.albedo))
-            if jobs:
-                say(len(made) / (2 * len(pairs)), f"{obj.name}: baking Base Color with Cycles")
-                bake_albedos(scene, _view_layer(scene), obj, jobs, exposure_uv(obj),
-                             scene.lightfade.bake_margin)
-        for k, (copy, plan) in enumerate(made):
-            props = copy.lightfade
+        for k, (obj, material) in enumerate(pairs):
+            plan = plans[obj, material]
+            copy = _new_copy(obj, material, plan)
+            made.append(copy)
 
-            def step(f, msg, k=k, name=props.source.name):
-                say((len(made) + k + f) / (2 * len(made)), f"{name}: {msg}")
+            def step(f, msg, k=k, name=material.name):
+                say((k + f) / len(pairs), f"{name}: {msg}")
 
-            runtime.prepare(scene, copy, exposure_shape(props.aged_object), step)
-            props.signature = runtime.signature(scene, copy)
-            insert_group(copy, plan.colour, build_group(copy), props.restored_image)
+            step(0.0, "aging group")
+            runtime.prepare(scene, copy, plan.colour, step)
     except BaseException:
-        for copy, _plan in made:
+        for copy in made:
             remove_aged(copy)
         raise
-    purge(scene, {c.lightfade.grid_key for c in copies_of()})
+    agingdata.purge_tables()
+    purge(scene, set())                          # grids live in the tables now
     lock_interface(scene)
     write_years(scene, years)
-    return [copy for copy, _plan in made]
+    say(1.0, f"aged {len(made)} material{'s' * (len(made) != 1)}")
+    return made

@@ -251,37 +251,16 @@ class LIGHTFADE_PG_material(PropertyGroup):
         description="Real aged pixels written by Apply Aging (for export, other engines, "
         "painting); none while the material evaluates the aging itself",
     )
-    key_image: PointerProperty(
-        name="Key Image",
-        type=bpy.types.Image,
-        description="Each texel's colour key into the aging table (read by the aging node group)",
-    )
-    rate_image: PointerProperty(
-        name="Dose Rate Image",
-        type=bpy.types.Image,
-        description="Annual dose per light spectrum, lux·h (read by the aging node group)",
-    )
     table_image: PointerProperty(
         name="Aging Table Image",
         type=bpy.types.Image,
-        description="The change of every colour key along the dose axis (read by the aging "
-        "node group and by Apply Aging)",
-    )
-    restored_image: PointerProperty(
-        name="Restored Image",
-        type=bpy.types.Image,
-        description="The texture restored to new (a material with a history): the colour "
-        "the aging starts from",
+        description="The colour table of this material's recipe and light spectra, shared "
+        "by every aged material using them (read by the aging node group and by Apply Aging)",
     )
     signature: StringProperty(
         name="Signature",
         description="Digest of the exposure, schedules and recipe this copy was prepared from "
         "(a different digest now means stale)",
-    )
-    max_years: FloatProperty(
-        name="Prepared Years",
-        description="Years the stored grid's dose axis covers (beyond: computed in memory, never stored)",
-        default=100.0,
     )
     lost_texels: IntProperty(
         name="Lost Texels",
@@ -289,10 +268,6 @@ class LIGHTFADE_PG_material(PropertyGroup):
         "history faded it past recovery)",
         default=0,
         min=0,
-    )
-    grid_key: StringProperty(
-        name="Grid",
-        description="Key of the grid in the file's grid store this copy uses",
     )
 
 

@@ -21,8 +21,8 @@ from .grids import purge
 def remove_aged(copy):
     """Remove one aged copy: slots restored, its images (if nothing else uses them) gone."""
     runtime.forget(copy)
-    agingdata.remove(copy)
     props = copy.lightfade
+    props.table_image = None
     images = [props.aged_image]
     if props.albedo is not None and props.albedo.name.startswith(ALBEDO_PREFIX):
         images.append(props.albedo)
@@ -47,7 +47,8 @@ def reset_scene(scene, exposure=False):
     clear_view(scene)                            # dose views show what Reset removes
     if exposure:
         remove_exposure(scene, [o for o in scene.objects if o.type == "MESH"])
-    purge(scene, {c.lightfade.grid_key for c in copies_of()})
+    agingdata.purge_tables()
+    purge(scene, set())
     props = scene.lightfade
     if props.lock_interface_before >= 0:
         scene.render.use_lock_interface = bool(props.lock_interface_before)

@@ -1,49 +1,40 @@
-"""Preparing an aged copy: its aging table and per-texel data, as images in the file.
+"""Preparing an aged copy: the shared colour table and the copy's node group.
 
-Everything slow happens once per aged copy in :func:`prepare`: albedo and exposure
-read, the grid loaded from the file (or simulated once), colours unmixed — a
-:class:`~lightfade_addon.core.aging.TextureAger` — and what it keeps written into
-three images the copy's node group reads (:mod:`.agingdata`): the keys, the dose
-rates and the aging table. The years then cost nothing here: the material evaluates
-them. :func:`evaluator` rebuilds the numpy twin from the same images (after a file
-load too, with no unmixing), for real aged images (:mod:`.apply`).
+Age does nothing per texel. For each aged copy :func:`prepare` finds (or builds once for
+the file) the colour table of its recipe under its object's light spectra
+(:func:`.agingdata.ensure_table`) and builds the copy's aging node group, which reads
+that table, the object's exposure maps and the scene's years (:mod:`.nodes.aging`).
+:func:`insert_aging` is the one step that puts the aging of one recipe between one
+colour socket and its BSDF. The years then cost nothing here: the material evaluates
+them. :func:`evaluator` reads the same table and maps back for the numpy twin (real
+aged images, :mod:`.apply`).
 """
 
 from __future__ import annotations
 
 import hashlib
-import math
 
 import numpy as np
 
-from ..core.aging import Light, TextureAger
+from ..core.aging import Light
+from ..core.colourtable import ColourTable
 from ..core.grid import GridSettings
 from ..core.recipes import get_recipe
 from ..core.restore import Prior
 from . import agingdata
+from .copies import GROUP_NODE, insert_group, walk
 from .errors import AgingError
-from .exposure import exposure_signature, lights_and_exposure
+from .exposure import exposure_images
 from .grids import SceneGridStore
-from .pixels import read_linear, read_rgba, resample
+from .nodes.aging import VERSION_KEY, GroupSpec, new_group
+from .pixels import read_linear, read_rgba
 from .vocabulary import RECIPE_IDS, SPECTRUM_IDS
 
-#: Smallest prepared range: the slider's soft maximum.
-MIN_PREPARED_YEARS = 100.0
-#: The grid every preparation uses (the tests of bookkeeping patch in a coarser one).
+#: The grid a restoration (Already Aged) solves on (the tests patch in a coarser one).
 GRID_SETTINGS = GridSettings()
-#: A copy's aging table holds at most one entry per texel of its texture, within these
-#: bounds: its data images (keys, rates, table) then weigh about what the float aged
-#: image each copy carried before did (benchmarks/footprint.py).
-TABLE_ENTRIES = (1 << 18, 1 << 22)
+GROUP_PREFIX = "LF_Aging_"
 
-
-def prepared_range(years):
-    """Years a preparation covers: 100 × the smallest power of two holding ``years``."""
-    k = max(0, math.ceil(math.log2(max(years, 1e-12) / MIN_PREPARED_YEARS) - 1e-12))
-    return MIN_PREPARED_YEARS * 2.0 ** k
-
-
-#: Numpy evaluators rebuilt from a copy's images, keyed by the copy's ``session_uid``
+#: Numpy evaluator inputs read from a copy's images, keyed by the copy's ``session_uid``
 #: and checked against the images they were read from.
 _EVALUATORS = {}
 
@@ -81,87 +72,125 @@ def material_prior(material):
 
 
 def signature(scene, copy):
-    """Digest of everything a copy's aged pixels depend on besides the years.
+    """Digest of everything a copy's aging group depends on besides the years.
 
-    Exposure (a new bake, schedules, emitters), the source material's recipe and
-    sensitivity, the albedo path and its image.  A stored digest that differs from the
-    current one means the copy is stale.
+    Which exposure maps count and their light (spectrum, UV filter, schedule), the UV
+    map, the source material's recipe, sensitivity and history, the colour path. Not
+    the maps' pixels: the group reads the map images themselves, and a re-bake remaps
+    the old images onto the new, so a re-bake of the same light groups reaches every
+    view without Age.
     """
     props = copy.lightfade
-    source = props.source
-    obj = props.aged_object
+    source, obj = props.source, props.aged_object
     if source is None or obj is None:
         return ""
     s = source.lightfade
-    albedo = props.albedo
-    parts = [exposure_signature(scene, obj), s.recipe, s.sensitivity_mode, str(s.blue_wool),
-             repr(s.beta), repr(material_prior(source)), props.path, props.uv_map,
-             albedo.name if albedo is not None else repr(tuple(props.flat_colour)),
-             str(tuple(albedo.size)) if albedo is not None else ""]
+    try:
+        maps = [f"{image.name}:{light}" for image, light in exposure_images(scene, obj)]
+    except AgingError as err:
+        maps = [str(err)]
+    parts = [obj.lightfade.uv_map, *maps, s.recipe, s.sensitivity_mode, str(s.blue_wool),
+             repr(s.beta), repr(material_prior(source)), props.path, props.uv_map]
     return hashlib.sha1("|".join(parts).encode()).hexdigest()
 
 
-def albedo_rgba(copy, shape):
-    """(H, W, 4) linear albedo of a copy; ``shape`` is used by the flat path only."""
+def group_version(copy):
+    """The :data:`.nodes.aging.GROUP_VERSION` of the copy's aging group (0: none or old)."""
+    for _tree, node in walk(copy.node_tree):
+        if node.name == GROUP_NODE and node.node_tree is not None:
+            return int(node.node_tree.get(VERSION_KEY, 0))
+    return 0
+
+
+def group_spec(uv_map, inputs, table_image):
+    """The :class:`.nodes.aging.GroupSpec` of a table image and exposure inputs."""
+    info = agingdata.table_info(table_image)
+    return GroupSpec(uv_map=uv_map, maps=tuple(inputs), table_image=table_image,
+                     table_size=tuple(table_image.size), side=int(info["side"]),
+                     T=int(info["T"]), q=int(info["q"]), S=int(info["S"]),
+                     gamma=float(info["gamma"]), per_decade=float(info["per_decade"]),
+                     low_dose=float(info["low_dose"]), history=bool(info["history"]))
+
+
+def aging_group(scene, obj, recipe, prior=None, name="LF_Aging", progress=None):
+    """``(group tree, table image, table or None)``: the aging of ``recipe`` (with history
+    ``prior``) on ``obj`` under its exposure maps, as a new node group ``name``."""
+    inputs, keys = agingdata.map_inputs(scene, obj)
+    restore_kw = dict(settings=GRID_SETTINGS, store=SceneGridStore(scene))
+    try:
+        image, table = agingdata.ensure_table(recipe, keys, prior, progress, restore_kw)
+    except ValueError as err:
+        raise AgingError(f"Object '{obj.name}', recipe '{recipe.name}': {err}") from None
+    return new_group(name, group_spec(obj.lightfade.uv_map, inputs, image)), image, table
+
+
+def insert_aging(scene, copy, colour, recipe, prior=None, progress=None):
+    """Put the aging of ``recipe`` between the colour socket ``colour`` (a
+    :class:`.source.ColourSocket` in ``copy``'s tree) and its BSDF; returns the group node.
+
+    The one step that ages one colour socket with one recipe: the table is shared by
+    every copy with the same recipe and light spectra, the group is the copy's own.
+    """
+    obj = copy.lightfade.aged_object
+    group, image, table = aging_group(scene, obj, recipe, prior, GROUP_PREFIX + copy.name,
+                                      progress)
+    copy.lightfade.table_image = image
+    if table is not None or prior is not None:
+        copy.lightfade.lost_texels = lost_texels(copy, table or agingdata.read_table(image))
+    return insert_group(copy, colour, group)
+
+
+def prepare(scene, copy, colour, progress=None):
+    """Age ``copy``'s colour socket with its source material's recipe (:func:`insert_aging`)."""
+    props = copy.lightfade
+    if props.aged_object is None or props.source is None:
+        raise AgingError(f"Aged material '{copy.name}' lost its object or source: press Reset")
+    node = insert_aging(scene, copy, colour, material_recipe(props.source),
+                        material_prior(props.source), progress)
+    props.signature = signature(scene, copy)
+    forget(copy)
+    return node
+
+
+def lost_texels(copy, table):
+    """Texels of a copy with a history whose original the light erased (the nearest
+    cube node's verdict); 0 without a history or where the colour is not at hand yet."""
+    lost = getattr(table, "lost", None)
+    props = copy.lightfade
+    if lost is None or props.path == "BAKED" and props.albedo is None:
+        return 0
+    rgb = original_rgba(copy, (1, 1))[..., :3].reshape(-1, 3)
+    N = lost.shape[0]
+    u = np.rint(np.clip(rgb, 0, 1) ** (1.0 / table.gamma) * (N - 1)).astype(int)
+    return int(np.count_nonzero(lost[u[:, 2], u[:, 1], u[:, 0]]))
+
+
+def original_rgba(copy, shape):
+    """(H, W, 4) linear colour the copy ages (the artist's, before the group); ``shape``
+    is used by the flat path only."""
     props = copy.lightfade
     if props.path == "FLAT":
         rgba = np.ones((*shape, 4), dtype=np.float32)
         rgba[..., :3] = props.flat_colour
-    elif props.albedo is None:
-        raise AgingError(f"Material '{copy.name}' lost its albedo image: press Age again")
-    elif props.path == "DIRECT":
-        rgba = read_linear(props.albedo)
-    else:
-        rgba = read_rgba(props.albedo)
+        return rgba
+    if props.albedo is None:
+        raise AgingError(f"Material '{copy.name}' has no albedo image: press Age again")
+    rgba = read_linear(props.albedo) if props.path == "DIRECT" else read_rgba(props.albedo)
     rgb = np.nan_to_num(rgba[..., :3], nan=0.0, posinf=1.0, neginf=0.0)
     rgba[..., :3] = np.clip(rgb, 0.0, 1.0)          # a Base Color is a reflectance
     return rgba
 
 
-def prepare(scene, copy, shape, progress=None):
-    """Build (or load) the aging of ``copy`` and write its images and node group data.
-
-    ``shape`` is the exposure maps' (H, W) (the flat path's texture size).  The grid
-    comes from the file's store, else the disk cache, else it is simulated, and is
-    stored in the file under the key recorded in ``copy.lightfade.grid_key``.
-    Returns the :class:`~lightfade_addon.core.aging.TextureAger`.
-    """
-    props = copy.lightfade
-    obj = props.aged_object
-    if obj is None or props.source is None:
-        raise AgingError(f"Aged material '{copy.name}' lost its object or source: press Reset")
-    rgba = albedo_rgba(copy, shape)
-    lights, at_bake = lights_and_exposure(scene, obj, shape)     # read once, at the bake's size
-    exposure = np.stack([resample(m, rgba.shape[:2]) for m in at_bake])
-    recipe = material_recipe(props.source)
-    prior = material_prior(props.source)
-    # the node group reads the rates at the bake's resolution: the grid must reach their max
-    max_rate = float(sum(e.max() * light.annual_dose for e, light in zip(at_bake, lights)))
-    try:
-        ager = TextureAger(rgba[..., :3], recipe, lights, exposure, max_years=props.max_years,
-                           encoding="linear", settings=GRID_SETTINGS, progress=progress,
-                           store=SceneGridStore(scene), prior=prior, max_rate=max_rate,
-                           table_entries=min(max(rgba.shape[0] * rgba.shape[1],
-                                                 TABLE_ENTRIES[0]), TABLE_ENTRIES[1]))
-    except ValueError as err:
-        raise AgingError(f"Material '{props.source.name}' on '{obj.name}': {err}") from None
-    props.grid_key = ager.grid.key
-    props.lost_texels = 0 if ager.lost is None else int(np.count_nonzero(ager.lost))
-    agingdata.write(copy, ager, lights, at_bake, restored=prior is not None)
-    forget(copy)
-    return ager
-
-
 def evaluator(copy):
-    """(table, texels, positions, original RGBA) of ``copy`` for :func:`..core.table.evaluate`,
-    read from the copy's images (cached while they are unchanged)."""
-    key = agingdata.fingerprint(copy)
+    """The :class:`..core.colourtable.ColourTable` ``copy`` reads, from its table image
+    (cached while the image is the same)."""
+    props = copy.lightfade
+    key = props.table_image.as_pointer() if props.table_image else 0
     cached = _EVALUATORS.get(copy.session_uid)
     if cached is not None and cached[0] == key:
         return cached[1]
-    original = albedo_rgba(copy, agingdata.key_shape(copy))
-    if copy.lightfade.restored_image is not None:
-        original = read_rgba(copy.lightfade.restored_image)
-    data = agingdata.read(copy, original)
-    _EVALUATORS[copy.session_uid] = (key, data)
-    return data
+    table = agingdata.read_table(props.table_image)
+    if not isinstance(table, ColourTable):
+        raise AgingError(f"Aged material '{copy.name}' lost its aging table: press Age")
+    _EVALUATORS[copy.session_uid] = (key, table)
+    return table

@@ -5,18 +5,14 @@ For the panels and :func:`lightfade_addon.api.material_plan`.  Runs no Cycles wo
 
 from __future__ import annotations
 
-from .apply import needs_age, stale_reason
+from .apply import stale_message
 from .copies import copies_of
 from .targets import check, targets
 
 
 def copy_status(scene, copy):
     """``"aged"``, or ``"stale: <why>"`` for an aged copy."""
-    why = stale_reason(scene, copy)
-    if not why:
-        return "aged"
-    blocked = needs_age(scene, copy)
-    return f"stale: {blocked}" if blocked else f"stale: {why}; updated on the next Age or years change"
+    return stale_message(scene, copy) or "aged"
 
 
 def material_status(scene, objects=()):

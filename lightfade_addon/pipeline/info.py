@@ -175,10 +175,6 @@ def stale(scene):
     years = scene.lightfade.years
     for copy in aged_copies(scene):
         props = copy.lightfade
-        if years > props.max_years:
-            lines.append(f"Material '{props.source.name}' on '{props.aged_object.name}' is "
-                         f"prepared for {props.max_years:g} years; the scene shows {years:g}: "
-                         "texels past the table's last dose are held there (Age again)")
         if not props.source.lightfade.enabled:
             lines.append(f"Material '{props.source.name}' on '{props.aged_object.name}' is "
                          "aged but no longer has LightFade enabled (Reset it)")

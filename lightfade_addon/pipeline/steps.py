@@ -184,7 +184,7 @@ def do_export_aged(path, args, say):
         name = f"{stem}_{props.source.name}_{props.aged_object.name}_{_years_text(args.years)}y"
         target = os.path.join(folder, _safe(name) + "." + args.format)
         with quiet("save"):
-            write_aged_file(copy, args.years, target)
+            write_aged_file(scene, copy, args.years, target)
         written.append(target)
         say(f"{props.source.name} on {props.aged_object.name} -> {target}")
     return f"{plural(len(written), 'image')} -> {folder}"

@@ -17,6 +17,7 @@ import addon_utils  # noqa: E402  (Blender's module, importable once bpy is)
 import numpy as np  # noqa: E402
 
 from lightfade_addon.core.grid import GridSettings  # noqa: E402
+from lightfade_addon.core.tablebuild import TableSettings  # noqa: E402
 
 ADDON = "lightfade_addon"
 
@@ -33,16 +34,20 @@ def pytest_collection_modifyitems(config, items):
 #: shipped settings (so do the processes the extension-install and pipeline tests run).
 #: A coarse grid builds in 0.06 s instead of 0.5 s.
 COARSE_GRID = GridSettings(points=5, doses=17, mix=2)
+#: The colour table of the Blender tests (the shell, not the table's accuracy, which
+#: tests/core/test_colourtable.py and benchmarks/colour_table.py check).
+COARSE_TABLE = TableSettings(side=9, per_decade=4, grid=GridSettings(points=5))
 
 
 @pytest.fixture(scope="session", autouse=True)
 def coarse_grid():
     """Every preparation in this process uses :data:`COARSE_GRID` (a process a test starts
     uses the shipped grid unless the test passes it this one)."""
-    from lightfade_addon.blender import runtime
+    from lightfade_addon.blender import agingdata, runtime
 
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(runtime, "GRID_SETTINGS", COARSE_GRID)
+        patch.setattr(agingdata, "TABLE_SETTINGS", COARSE_TABLE)
         yield
 
 

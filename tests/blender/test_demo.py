@@ -82,7 +82,7 @@ def test_tags_became_lightfade_settings(quick_room):
 
 @pytest.mark.slow
 def test_saved_blend_keeps_the_aging(quick_room):
-    """The saved room carries each aged material's data images (packed) and group, and
+    """The saved room carries each aged material's table image (packed) and group, and
     the years it was saved at."""
     out, _ = quick_room
     bpy.ops.wm.open_mainfile(filepath=str(out / "room.blend"))
@@ -90,7 +90,7 @@ def test_saved_blend_keeps_the_aging(quick_room):
     assert len(copies) == 5
     for copy in copies:
         props = copy.lightfade
-        for im in (props.key_image, props.rate_image, props.table_image):
+        for im in (props.table_image,):
             assert im is not None and im.packed_file is not None, copy.name
             assert tuple(im.size) != (0, 0), im.name
         assert "LightFade Aging" in copy.node_tree.nodes or any(

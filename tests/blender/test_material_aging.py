@@ -29,10 +29,9 @@ def the_copy(material):
 def node_evaluation(copy, colour=BASE_COLOR):
     """(H, W, 3) the copy's Base Color as Cycles evaluates it (its aging node group) at
     the key texels' centres: an Emission bake in the exposure UV map."""
-    from lightfade_addon.blender.agingdata import key_shape
     from lightfade_addon.blender.albedo import bake_albedos
 
-    H, W = key_shape(copy)
+    W, H = copy.lightfade.albedo.size
     image = bpy.data.images.new("NodeEvaluation", W, H, alpha=True, float_buffer=True)
     image.colorspace_settings.name = "Linear Rec.709"
     scene = bpy.context.scene
@@ -95,10 +94,10 @@ class TestNodeGroupAgainstNumpy:
             api.set_years(bpy.context.scene, years)
             # the outer ring: Cycles' bake samples border texels off their centres
             nodes = node_evaluation(copy)[1:-1, 1:-1]
-            numpy = aged_pixels(copy, years)[1:-1, 1:-1, :3]
+            numpy = aged_pixels(bpy.context.scene, copy, years)[1:-1, 1:-1, :3]
             dE = delta_E_2000(lab(nodes), lab(numpy))
             assert np.percentile(dE, 99) <= 0.2 and dE.max() <= 0.5, (years, dE.max())
-        original = aged_pixels(copy, 0.0)[1:-1, 1:-1, :3]
+        original = aged_pixels(bpy.context.scene, copy, 0.0)[1:-1, 1:-1, :3]
         assert delta_E_2000(lab(numpy), lab(original)).mean() > 2     # a real fade
 
     def test_years_reach_the_group_through_the_scene_property(self, textured):
@@ -254,7 +253,7 @@ def test_apply_then_live_aging_round_trip(textured):
     assert bsdf.inputs["Base Color"].links[0].from_node.name == APPLIED_NAME
     assert image["lightfade_years"] == 12.0
     from lightfade_addon.blender.apply import aged_pixels
-    np.testing.assert_allclose(rgba(image), aged_pixels(copy, 12.0), atol=1e-6)
+    np.testing.assert_allclose(rgba(image), aged_pixels(bpy.context.scene, copy, 12.0), atol=1e-6)
     assert bpy.ops.lightfade.live_aging() == {"FINISHED"}
     assert bsdf.inputs["Base Color"].links[0].from_node.name == GROUP_NODE
     assert copy.lightfade.aged_image is None and not any(
@@ -347,64 +346,6 @@ def test_applied_images_render_as_the_material_does(textured, tmp_path):
     np.testing.assert_array_equal(_render(scene, tmp_path, "live2.exr"), live)
 
 
-def test_the_group_decodes_24_bit_keys_and_the_table_layout(blender):
-    """Keys in all three 8-bit channels and table runs across image rows: a table whose
-    value at a key is -key·1e-5 renders exp(-key·1e-5) for a white colour. (The noise
-    tests' keys fit in 16 bits and one row; this one reaches 70,000 and 35 rows.)"""
-    from lightfade_addon.blender.nodes.aging import GroupSpec, new_group
-    from lightfade_addon.blender.years import YEARS_PROP
-    from lightfade_addon.core.table import AgingTable, key_pixels, table_layout, table_pixels
-
-    keys = np.array([0, 1, 255, 256, 4095, 4096, 65535, 65536, 65537, 69999, 12345, 54321,
-                     300, 30000, 40000, 50000])
-    K, T = 70000, 2
-    values = np.zeros((K, 1, T, 3), np.float32)
-    values[:, 0, 1] = (-np.arange(K) * 1e-5)[:, None]         # at dose node 1
-    table = AgingTable.from_values(values, 1.0, 1, 2)
-    W, H = table_layout(table)
-    assert H > 30                                             # runs wrap across rows
-
-    def image(name, pixels, is_float):
-        h, w = pixels.shape[:2]
-        im = bpy.data.images.new(name, w, h, alpha=True, float_buffer=is_float)
-        im.colorspace_settings.name = "Non-Color"
-        im.alpha_mode = "CHANNEL_PACKED"
-        im.pixels.foreach_set(np.ascontiguousarray(pixels, np.float32).ravel())
-        return im
-
-    block = np.kron(keys.reshape(4, 4), np.ones((3, 3), int))   # 3x3 texels a key
-    key_img = image("Keys", key_pixels(block, block.shape) / 255.0, False)
-    rate_img = image("Rate", np.ones((4, 4, 4), np.float32), True)
-    pixels = np.zeros((W * H, 4), np.float32)              # float32 (not the half-precision
-    pixels[:K * T, :3] = values.reshape(-1, 3)             # table): every key resolves
-    assert np.array_equal(table_pixels(table)[..., :3].reshape(-1, 3)[:K * T] != 0,
-                          pixels[:K * T, :3] != 0)         # the same layout
-    table_img = image("Table", pixels.reshape(H, W, 4), True)
-    spec = GroupSpec(uv_map="UVMap", key_image=key_img, key_size=(12, 12),
-                     key_extension="EXTEND", rate_image=rate_img, S=1, table_image=table_img,
-                     table_size=(W, H), T=T, slots=1, per_row=W // T, q=2, max_dose=1.0)
-    group = new_group("Decode", spec)
-    bpy.ops.mesh.primitive_plane_add(size=2.0)
-    plane = bpy.context.active_object
-    mat = bpy.data.materials.new("Decode")
-    if bpy.app.version < (5, 0, 0):
-        mat.use_nodes = True
-    tree = mat.node_tree
-    node = tree.nodes.new("ShaderNodeGroup")
-    node.node_tree = group
-    node.inputs[0].default_value = (1.0, 1.0, 1.0, 1.0)
-    tree.links.new(node.outputs[0], tree.nodes["Principled BSDF"].inputs["Base Color"])
-    plane.data.materials.append(mat)
-    bpy.context.scene[YEARS_PROP] = 1.0               # rate 1: dose node 1 exactly
-    from lightfade_addon.blender.albedo import bake_albedos
-
-    out = bpy.data.images.new("Out", 12, 12, alpha=True, float_buffer=True)
-    rgb = bake_albedos(bpy.context.scene, bpy.context.view_layer, plane,
-                       [(mat, BASE_COLOR, out)], "UVMap", margin=0)["Decode"]
-    centres = rgb[1::3, 1::3, 1].ravel()
-    np.testing.assert_allclose(-np.log(centres) * 1e5, keys, atol=0.5)
-
-
 def test_an_imported_gltf_model_renders_its_original_pixels_at_zero_years(blender, lf,
                                                                           tmp_path):
     """A model as an artist gets it: exported to glTF and imported with Blender's own
@@ -459,3 +400,31 @@ def test_an_imported_gltf_model_renders_its_original_pixels_at_zero_years(blende
     old = _render(scene, tmp_path, "old.exr")
     assert np.median(delta_E_2000(lab(old[cube_px] / before.max()),
                                   lab(before[cube_px] / before.max()))) > 1.0
+
+
+def test_a_procedural_colour_applies_as_the_group_renders(textured):
+    """The baked path: a procedural Base Color ages in the material from the shading
+    point's colour; Apply to Images bakes that colour (the group muted) and ages it with
+    the numpy twin, which agrees with the group at the texel centres."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.apply import aged_pixels
+
+    tree = textured["material"].node_tree
+    image_node = next(n for n in tree.nodes if n.type == "TEX_IMAGE")
+    wave = tree.nodes.new("ShaderNodeTexWave")           # smooth bands of colour
+    wave.inputs["Scale"].default_value = 1.5
+    ramp = tree.nodes.new("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[0].color = (0.6, 0.15, 0.3, 1.0)
+    ramp.color_ramp.elements[1].color = (0.2, 0.5, 0.7, 1.0)
+    tree.links.new(wave.outputs["Fac"], ramp.inputs["Fac"])
+    tree.links.new(ramp.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
+    tree.nodes.remove(image_node)
+    _bake_and_age(years=10)
+    copy = the_copy(textured["material"])
+    assert copy.lightfade.path == "BAKED" and copy.lightfade.albedo is None   # Age bakes nothing
+    numpy = aged_pixels(bpy.context.scene, copy, 10.0)[1:-1, 1:-1, :3]
+    assert copy.lightfade.albedo is not None                 # baked once applied
+    nodes = node_evaluation(copy)[1:-1, 1:-1]
+    dE = delta_E_2000(lab(nodes), lab(numpy))
+    assert np.percentile(dE, 99) <= 0.3, np.percentile(dE, 99)
+    assert api.material_plan(bpy.context.scene)[0]["status"] == "aged"

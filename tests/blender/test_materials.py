@@ -153,7 +153,8 @@ def test_plan_names_the_path_and_why(aged):
         assert plan[name]["path"] == "BAKED", plan[name]
     assert "Mapping" in plan["Plate_tiled"]["reason"]
     assert "group" in plan["Plate_grouped"]["reason"]
-    assert all(row["status"] == "aged" for row in aged["api"].material_plan(bpy.context.scene))
+    rows = aged["api"].material_plan(bpy.context.scene)
+    assert all(row["status"] == "aged" for row in rows), [r["status"] for r in rows]
 
 
 def test_originals_untouched_and_reset_restores_everything(aged):

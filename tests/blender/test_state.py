@@ -28,7 +28,7 @@ def aged(material):
     from lightfade_addon.blender.apply import apply_copy
     from lightfade_addon.blender.years import get_years
 
-    return rgba(apply_copy(the_copy(material), get_years(bpy.context.scene)))
+    return rgba(apply_copy(bpy.context.scene, the_copy(material), get_years(bpy.context.scene)))
 
 
 @pytest.fixture
@@ -118,39 +118,25 @@ class TestStale:
 
 
 class TestYears:
-    def test_years_past_the_range_extend_it_and_store_one_grid(self, carpet):
+    def test_huge_years_keep_ordinary_years_exact_and_prepare_nothing(self, carpet):
         from lightfade_addon import api
-        from lightfade_addon.blender.copies import copies_of
+        from lightfade_addon.blender.apply import update_scene
 
         scene = bpy.context.scene
         api.age_scene(scene, years=20)
         twenty = aged(carpet["material"]).copy()
+        table = the_copy(carpet["material"]).lightfade.table_image
         lines = []
-        from lightfade_addon.blender.apply import update_scene
-
-        update_scene(scene, 1e3, report=lines.append)
-        (copy,) = copies_of(carpet["material"])
-        assert copy.lightfade.max_years == 1600.0 and len(lines) == 1 and "1600" in lines[0]
-        assert np.abs(aged(carpet["material"]) - twenty).max() > 0.01
-        api.set_years(scene, 20)            # on a dose axis 80 times longer (the test grid)
-        assert np.median(np.abs(aged(carpet["material"]) - twenty)) < 0.005
-        assert grids(scene) == 1
-
-    def test_the_slider_past_the_range_shows_its_end_and_set_years_extends_it(self, carpet):
-        from lightfade_addon import api
-
-        scene = bpy.context.scene
-        api.age_scene(scene, years=5)                      # prepared up to 100 years
-        api.set_years(scene, 100)
-        hundred = aged(carpet["material"]).copy()
-        bpy.context.scene.lightfade.years = 150            # the slider, past the range:
-        (copy,) = [m for m in bpy.data.materials if m.lightfade.source is not None]
-        assert copy.lightfade.max_years == 100.0           # nothing prepared while dragging
-        api.set_years(scene, 150)                          # prepared up to 200 years
-        extended = aged(carpet["material"]).copy()
-        assert np.abs(extended - hundred).max() > 0.005
-        api.age_scene(scene, years=150)                    # prepared up to 200 years
-        np.testing.assert_allclose(aged(carpet["material"]), extended, atol=1e-5)
+        for years in (1e3, 1e6, 1e9):
+            update_scene(scene, years, report=lines.append)
+        assert lines == [] and the_copy(carpet["material"]).lightfade.table_image == table
+        api.set_years(scene, 1e15)
+        huge = aged(carpet["material"]).copy()
+        api.set_years(scene, 1e18)                        # saturated: past the last node
+        np.testing.assert_array_equal(aged(carpet["material"]), huge)
+        api.set_years(scene, 20)
+        np.testing.assert_array_equal(aged(carpet["material"]), twenty)
+        assert grids(scene) == 0
 
     @pytest.mark.parametrize("years", [0, 50, 500])
     def test_every_written_pixel_is_finite_and_in_range(self, carpet, years):
@@ -247,7 +233,8 @@ class TestReset:
         again = tmp_path / "again.blend"
         bpy.ops.wm.save_as_mainfile(filepath=str(again), compress=False)
         assert os.path.getsize(again) <= 1.01 * os.path.getsize(first)
-        assert grids(scene) == 1
+        assert grids(scene) == 0
+        assert len([i for i in bpy.data.images if i.name.startswith("LF_Table_")]) == 1
 
 
 def test_the_slider_runs_no_aging_code(carpet, monkeypatch):
@@ -364,7 +351,7 @@ from lightfade_addon.core.grid import GridSettings
 runtime.GRID_SETTINGS = {grid!r}          # the grid this test process uses
 api.set_years(bpy.context.scene, {years!r})
 from lightfade_addon.blender.apply import apply_copy
-image = apply_copy(copies_of()[0], {years!r})
+image = apply_copy(bpy.context.scene, copies_of()[0], {years!r})
 a = np.empty(len(image.pixels), np.float32)
 image.pixels.foreach_get(a)
 np.save({out!r}, a)
@@ -414,13 +401,42 @@ def test_fresh_process_renders_what_the_viewport_shows(fresh_process, early_jobs
     np.testing.assert_allclose(np.load(out), here, atol=1e-5)
 
 
-def test_info_says_when_the_years_pass_the_prepared_range(carpet):
+def test_a_stale_copy_says_age_everywhere_and_age_refreshes_it(carpet):
+    """Panel, ``info``, ``api.set_years`` and the API's plan say the same thing, and
+    what they name (Age) is what refreshes the copy."""
     from lightfade_addon import api
+    from lightfade_addon.blender.status import copy_status
     from lightfade_addon.pipeline.info import stale
 
     scene = bpy.context.scene
     api.age_scene(scene, years=5)
-    assert not any("prepared for" in line for line in stale(scene))
-    scene.lightfade.years = 150.0                         # the slider: nothing prepared
-    (line,) = [x for x in stale(scene) if "prepared for" in x]
-    assert "100 years" in line and "150" in line
+    carpet["sun"].data.lightfade.hours_per_day = 3.0      # the group's constants change
+    status = copy_status(scene, the_copy(carpet["material"]))
+    assert status.startswith("stale:") and status.endswith("press Age")
+    assert any(status in line for line in stale(scene))
+    lines = []
+    from lightfade_addon.blender.apply import update_scene
+
+    update_scene(scene, 7.0, report=lines.append)
+    (line,) = lines
+    assert status in line
+    assert api.material_plan(scene)[0]["status"] == status
+    api.age_scene(scene, years=7)
+    assert copy_status(scene, the_copy(carpet["material"])) == "aged"
+
+
+def test_a_rebake_of_the_same_lights_reaches_the_group_without_age(carpet):
+    """The group reads the exposure maps themselves: a re-bake (a box moved) changes
+    the render at once and leaves nothing stale."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.status import copy_status
+
+    scene = bpy.context.scene
+    api.age_scene(scene, years=20)
+    before = aged(carpet["material"]).copy()
+    api.live_aging(scene)                                # the groups, not applied images
+    carpet["box"].location.x -= 0.8
+    bpy.ops.lightfade.bake_exposure()
+    copy = the_copy(carpet["material"])
+    assert copy_status(scene, copy) == "aged"
+    assert np.abs(aged(carpet["material"]) - before).max() > 0.05

@@ -1,39 +1,44 @@
-"""The aging node group: :func:`..core.table.evaluate` as a shader node tree.
+"""The aging node group: :func:`..core.colourtable.evaluate` as a shader node tree.
 
 One group per aged copy, inserted between the artist's own Base Color graph and the
-BSDF's colour socket. It reads three images LightFade made (the layouts are
-:func:`..core.table.key_pixels`, :func:`..core.table.table_pixels` and the rate map)
-and the scene's years through an Attribute node (View Layer: the scene's custom
-property ``lightfade_years``), so Cycles (CPU and GPU), EEVEE and the Material Preview
-evaluate the aging themselves: no Python per pixel or per years change, and the .blend
-renders its aging where LightFade is not installed.
+BSDF's colour socket (:func:`..copies.insert_group`). It reads the object's exposure
+maps (lux per light group), the shared colour table of the copy's recipe and light set
+(:func:`..core.colourtable.atlas_pixels`) and the scene's years through an Attribute
+node (View Layer: the scene's custom property ``lightfade_years``), so Cycles (CPU and
+GPU), EEVEE and the Material Preview evaluate the aging themselves: no Python per
+pixel or per years change, and the .blend renders its aging where LightFade is not
+installed.
 
 Stages (node names start with the stage; the group reads left to right):
 
 ``years``, ``uv``
     the scene's years; the exposure UV map.
+``rates``
+    each exposure map (Linear) times its hours a year, summed per spectrum: lux·h a year.
 ``dose``
-    the rate map (annual dose per spectrum as a fraction of the last node's, bilinear)
-    and the texel's fractional dose node ``s = (T - 1) · min(1, (rate · years)**(1/3))``,
-    ``i = min(floor s, T - 2)``.
+    the dose ``d = years · Σ rates`` and its fractional node
+    ``s = min(d / low, 1) + per_decade · log10(max(d, low) / low)`` (at most ``T - 1``),
+    ``t = min(floor s, T - 2)``.
 ``mix``
     the light-mix vertices (slots) and weights of :func:`..core.table.simplex_slots`.
-``keys``
-    the four key texels around the shading point (Closest), decoded, with bilinear
-    weights: the change is blended by hand, so a key boundary shows no step.
+``cube``
+    the colour's cube coordinates ``u = clip(rgb, 0, 1) ** (1 / gamma) · (N - 1)``; the
+    blue node ``b = min(floor u_b, N - 2)``.
 ``table``
-    per key and vertex, the table at dose nodes ``i`` and ``i + 1`` (Closest),
-    interpolated by ``s - i``; summed with the weights.
+    per mix vertex, the four tiles (``b``, ``b + 1``) × (``t``, ``t + 1``), each looked up
+    with Linear interpolation (bilinear over red and green), linear over blue and dose.
 ``colour``
     ``XYZ = M · rgb``, times ``exp(change)``, back to linear sRGB.
 ``gamut``
     :func:`..core.gamut.into_gamut`'s rule: towards the grey of the clipped luminance.
 ``switch``
-    zero years passes the original colour through untouched.
+    zero years passes the original colour through untouched (not for a table with a
+    history, whose dose 0 is the restoration).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import bpy
@@ -44,29 +49,32 @@ from ...core.gamut import LUMA
 from ..years import YEARS_PROP
 from .graph import Graph, Sock
 
-#: Bumped whenever the group's nodes change: an older group is rebuilt.
-GROUP_VERSION = 1
+#: Bumped whenever the group's nodes change: an older group is rebuilt (Age).
+GROUP_VERSION = 2
 #: Custom property on the group tree holding :data:`GROUP_VERSION`.
 VERSION_KEY = "lightfade_aging_version"
 
 
 @dataclass(frozen=True)
 class GroupSpec:
-    """What one copy's group reads: images, their sizes and the table's shape."""
+    """What one copy's group reads: the exposure maps and the shared colour table."""
 
     uv_map: str
-    key_image: object
-    key_size: tuple          # (W, H)
-    key_extension: str
-    rate_image: object
-    S: int                   # spectra (rate channels), 1..4
+    maps: tuple              # agingdata.MapInput: image, spectrum index, hours a year
     table_image: object
     table_size: tuple        # (W, H)
+    side: int                # N
     T: int
-    slots: int
-    per_row: int
     q: int
-    max_dose: float          # lux·h
+    S: int                   # spectra
+    gamma: float
+    per_decade: float
+    low_dose: float          # lux·h of dose node 1
+    history: bool
+
+    @property
+    def P(self):
+        return self.side + 2
 
 
 def _interface(tree):
@@ -75,17 +83,31 @@ def _interface(tree):
     tree.interface.new_socket("Color", in_out="OUTPUT", socket_type="NodeSocketColor")
 
 
-def _dose(g, spec, years, uv):
-    g.stage = "dose"
-    colour, alpha = g.image(spec.rate_image, uv, "Linear", "EXTEND")
-    rates = g.separate(colour)[:spec.S] + ([alpha] if spec.S == 4 else [])
+def _rates(g, spec, uv):
+    """Annual dose per spectrum (lux·h a year) at the shading point, and their total."""
+    g.stage = "rates"
+    rates = [None] * spec.S
+    for m in spec.maps:
+        colour, _alpha = g.image(m.image, uv, "Linear", "EXTEND")
+        lux = g.separate(colour)[0].max(0.0) * float(m.hours)
+        k = m.spectrum
+        rates[k] = lux if rates[k] is None else rates[k] + lux
+    rates = [r if r is not None else g.value(0.0) for r in rates]
     total = rates[0]
     for r in rates[1:]:
         total = total + r
-    pos = ((total * years) ** (1.0 / 3.0)) * float(spec.T - 1)     # rates: per max_dose
-    pos = pos.min(float(spec.T - 1))
-    i = pos.floor().min(float(spec.T - 2))
-    return rates, total, i, pos - i
+    return rates, total
+
+
+def _dose(g, spec, years, total):
+    g.stage = "dose"
+    d = total * years
+    low = float(spec.low_dose)
+    k = float(spec.per_decade) / math.log(10.0)
+    s = (d * (1.0 / low)).min(1.0) + (d.max(low) * (1.0 / low)).ln() * k
+    s = s.min(float(spec.T - 1))
+    t = s.floor().min(float(spec.T - 2))
+    return t, s - t
 
 
 def _mix(g, spec, rates, total):
@@ -143,43 +165,44 @@ def _mix(g, spec, rates, total):
     return out
 
 
-def _keys(g, spec, uv):
-    """[(key, weight)] of the four key texels around ``uv`` (bilinear weights)."""
-    g.stage = "keys"
-    W, H = spec.key_size
-    u, v, _ = g.separate(uv)
-    px, py = u * float(W) - 0.5, v * float(H) - 0.5
-    x0, y0 = px.floor(), py.floor()
-    fx, fy = px - x0, py - y0
-    out = []
-    for dx in (0, 1):
-        for dy in (0, 1):
-            colour, _a = g.fetch(spec.key_image, (W, H), x0 + float(dx), y0 + float(dy),
-                                 spec.key_extension)
-            r, gg, b = g.separate(colour)
-            key = (r * 255.0).round() * 65536.0 + (gg * 255.0).round() * 256.0 \
-                + (b * 255.0).round()
-            weight = (fx if dx else 1.0 - fx) * (fy if dy else 1.0 - fy)
-            out.append((key, weight))
-    return out
+def _cube(g, spec, colour):
+    """Cube coordinates (u_r, u_g) and the blue node and fraction of ``colour``."""
+    g.stage = "cube"
+    scale = float(spec.side - 1)
+    inv = 1.0 / float(spec.gamma)
+    r, gg, b = (c.clamp(0.0, 1.0) ** inv * scale for c in g.separate(colour))
+    b0 = b.floor().min(float(spec.side - 2))
+    return r, gg, b0, b - b0
 
 
-def _table(g, spec, keys, vertices, i, f):
-    """Σ over keys and vertices of weight · (v_i + f (v_i+1 - v_i)) — a vector Sock."""
+def _lerp(g, lo, hi, f):
+    """``lo + f (hi - lo)`` of vector socks (two Vector Math nodes)."""
+    return g.vector("MULTIPLY_ADD", g.vector("SUBTRACT", hi, lo), f, lo)
+
+
+def _table(g, spec, cube, vertices, t, ft):
+    """Σ over mix vertices of weight · lerp_t lerp_b bilinear_rg(tile) — a vector Sock."""
     g.stage = "table"
+    W, H = spec.table_size
+    P = float(spec.P)
+    r, gg, b0, fb = cube
+    x0 = g.math("MULTIPLY_ADD", b0, P / W, (r + 1.5) * (1.0 / W))   # tile column b0
+    x1 = x0 + P / W                                                   # and b0 + 1
+    g_off = (gg + 1.5) * (1.0 / H)
     change = None
-    for key, wk in keys:
-        for slot, wv in vertices:
-            run = key * float(spec.slots) + slot
-            row = ((run + 0.5) * (1.0 / spec.per_row)).floor()
-            col = (run - row * float(spec.per_row)) * float(spec.T) + i
-            lo, _a = g.fetch(spec.table_image, spec.table_size, col, row)
-            hi, _a = g.fetch(spec.table_image, spec.table_size, col + 1.0, row)
-            step = g.vector("ADD", lo, g.vector("SCALE", g.vector("SUBTRACT", hi, lo),
-                                                None, None, f))
-            weight = wk if wv is None else wk * wv
-            term = g.vector("SCALE", step, None, None, weight)
-            change = term if change is None else g.vector("ADD", change, term)
+    for slot, weight in vertices:
+        row = t if isinstance(slot, float) and slot == 0.0 else slot * float(spec.T) + t
+        y0 = g.math("MULTIPLY_ADD", row, P / H, g_off)                # tile row slot·T + t
+        y1 = y0 + P / H
+        corners = []
+        for y in (y0, y1):
+            for x in (x0, x1):
+                colour, _a = g.image(spec.table_image, g.combine(x, y), "Linear", "EXTEND")
+                corners.append(colour)
+        step = _lerp(g, _lerp(g, corners[0], corners[1], fb),
+                     _lerp(g, corners[2], corners[3], fb), ft)
+        term = step if weight is None else g.vector("SCALE", step, None, None, weight)
+        change = term if change is None else g.vector("ADD", change, term)
     return change
 
 
@@ -195,16 +218,23 @@ def _colour(g, colour, change):
 
 
 def _gamut(g, c):
+    """:func:`..core.gamut.into_gamut` on the vector ``c``, in vector nodes.
+
+    ``t = clamp(min_k max((1 - Y) / d_k, -Y / d_k), 0, 1)``, ``d = c - Y``: for a channel
+    inside [0, 1] both ratios' larger one is at least 1, so only channels outside limit
+    ``t``, as in the numpy rule (a tiny offset keeps Blender's safe division, which
+    gives 0 for a zero divisor, away from channels that equal ``Y``).
+    """
     g.stage = "gamut"
-    Y = (c[0] * float(LUMA[0]) + c[1] * float(LUMA[1]) + c[2] * float(LUMA[2])).clamp(0.0, 1.0)
-    d = [ck - Y for ck in c]
-    t = None
-    for ck, dk in zip(c, d):
-        hi, lo = ck.gt(1.0), ck.lt(0.0)
-        tk = hi * ((1.0 - Y) / dk) + (1.0 - hi) * (lo * ((0.0 - Y) / dk) + (1.0 - lo))
-        t = tk if t is None else t.min(tk)
-    t = t.clamp(0.0, 1.0)
-    return [(Y + t * dk).clamp(0.0, 1.0) for dk in d]
+    Y = g.vector("DOT_PRODUCT", c, tuple(float(v) for v in LUMA)).clamp(0.0, 1.0)
+    d = g.vector("SUBTRACT", c, Y)
+    den = g.vector("ADD", d, (1e-20, 1e-20, 1e-20))
+    up = g.vector("DIVIDE", 1.0 - Y, den)
+    down = g.vector("DIVIDE", 0.0 - Y, den)
+    tx, ty, tz = g.separate(g.vector("MAXIMUM", up, down))
+    t = tx.min(ty).min(tz).clamp(0.0, 1.0)
+    out = g.vector("MULTIPLY_ADD", d, t, Y)
+    return g.vector("MINIMUM", g.vector("MAXIMUM", out, (0.0, 0.0, 0.0)), (1.0, 1.0, 1.0))
 
 
 def build(tree, spec):
@@ -219,16 +249,16 @@ def build(tree, spec):
                          attribute_name=YEARS_PROP, depth=0), "Fac")
     g.stage = "uv"
     uv = g.out(g.node("ShaderNodeUVMap", uv_map=spec.uv_map, depth=0), "UV")
-    rates, total, i, f = _dose(g, spec, years, uv)
+    rates, total = _rates(g, spec, uv)
+    t, ft = _dose(g, spec, years, total)
     vertices = _mix(g, spec, rates, total)
-    keys = _keys(g, spec, uv)
-    change = _table(g, spec, keys, vertices, i, f)
-    rgb = _gamut(g, _colour(g, colour, change))
+    change = _table(g, spec, _cube(g, spec, colour), vertices, t, ft)
+    result = _gamut(g, g.combine(*_colour(g, colour, change)))
     g.stage = "switch"
-    aged = g.combine(*rgb)
-    on = years.gt(0.0)
-    result = g.vector("ADD", colour, g.vector("SCALE", g.vector("SUBTRACT", aged, colour),
-                                              None, None, on))
+    if not spec.history:
+        on = years.gt(0.0)
+        result = g.vector("ADD", colour, g.vector("SCALE", g.vector("SUBTRACT", result, colour),
+                                                  None, None, on))
     g.stage = "io"
     gout = g.node("NodeGroupOutput", (result,))
     gout.is_active_output = True

@@ -45,6 +45,7 @@ class Sock:
         return 1.0 - self.lt(o)
 
     def floor(self): return self._op("FLOOR")
+    def ln(self): return self._op("LOGARITHM", 2.718281828459045)
     def exp(self): return self._op("EXPONENT")
     def round(self): return self._op("ROUND")
     def min(self, o): return self._op("MINIMUM", o)
@@ -101,6 +102,12 @@ class Graph:
         """A Vector Math node (``DOT_PRODUCT``'s output is its ``Value``)."""
         node = self.node("ShaderNodeVectorMath", args, operation=op)
         return self.out(node, "Value" if op == "DOT_PRODUCT" else "Vector")
+
+    def value(self, v):
+        """A constant as a Sock (a Value node)."""
+        node = self.node("ShaderNodeValue")
+        node.outputs[0].default_value = v
+        return self.out(node)
 
     def combine(self, x, y, z=0.0):
         return self.out(self.node("ShaderNodeCombineXYZ", (x, y, z)))

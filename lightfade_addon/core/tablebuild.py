@@ -1,0 +1,220 @@
+"""Building a colour table (:mod:`.colourtable`): one simulation per concentration node.
+
+The recipe's colourants are simulated at the paper's grid of concentrations (Section 5)
+for each light mix of the set's spectra, recording the table's own dose axis (absolute
+lux·h, :func:`.colourtable.dose_position`) up to :attr:`TableSettings.ceiling`; each cube
+colour is unmixed (:mod:`.unmix`) and its change interpolated on that grid
+(:meth:`.grid.FadeGrid.curves`); the dose axis is cut where nothing changes any more.
+Tables are kept on disk (:func:`load_or_build`) like grids, keyed by everything they
+depend on.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import io
+import json
+import math
+import os
+import tempfile
+from dataclasses import dataclass
+
+import numpy as np
+
+from .cache import directory
+from .colorimetry import linear_srgb_to_XYZ, reflectance_to_XYZ, srgb_encode
+from .colourtable import ColourTable, cube_colours, mix_resolution
+from .fading import simulate
+from .grid import FadeGrid, GridSettings
+from .lattice import concentration_axis, mix_lattice
+from .restore import restore
+from .spectra import WAVELENGTHS, light_spectrum
+from .table import mix_slots
+from .unmix import get_unmixer
+
+__all__ = ["TABLE_FORMAT", "TableSettings", "build_table", "load_or_build", "table_key"]
+
+#: Bumped whenever a table's contents would change for the same inputs.
+TABLE_FORMAT = 1
+#: Smallest XYZ value in the log ratio (as the grid).
+_XYZ_FLOOR = 1e-6
+#: Change (log XYZ) below which the dose axis counts as saturated.
+_SATURATED = 2e-4
+
+
+@dataclass(frozen=True)
+class TableSettings:
+    """Resolution of a colour table.
+
+    Attributes
+    ----------
+    side : int
+        Nodes per channel of the colour cube (``N``).
+    gamma : float
+        The cube's encoding ``u = rgb ** (1 / gamma)`` (denser in the darks).
+    per_decade : int
+        Dose nodes per decade of lux·h.
+    low_dose : float
+        lux·h of dose node 1 (linear from 0 below it).
+    ceiling : float
+        Largest dose simulated, lux·h; the axis is cut where the recipe stops changing.
+    grid : GridSettings
+        Concentration nodes simulated (the paper's grid); the cube's colours are
+        unmixed and interpolated on it (``points`` and ``power`` are used).
+    """
+
+    side: int = 17
+    gamma: float = 2.2
+    per_decade: int = 8
+    low_dose: float = 1e4
+    ceiling: float = 1e14
+    grid: GridSettings = GridSettings(points=8)
+
+def _dose_axis(settings):
+    """Dose nodes 0, low, …, ceiling (lux·h)."""
+    decades = math.log10(settings.ceiling / settings.low_dose)
+    n = int(math.ceil(decades * settings.per_decade)) + 1
+    return np.concatenate([[0.0], settings.low_dose * 10.0 ** (np.arange(n) / settings.per_decade)])
+
+
+def table_key(recipe, spectra_keys_, settings, prior=None):
+    """Hash of everything a table depends on."""
+    A, S, ground = recipe.optics(WAVELENGTHS)
+    parts = {"format": TABLE_FORMAT, "recipe": repr(recipe), "settings": repr(settings),
+             "spectra": [list(k) for k in spectra_keys_], "prior": repr(prior),
+             "beta": recipe.sensitivity(WAVELENGTHS).tolist(), "solver": recipe.solver()}
+    h = hashlib.sha256(json.dumps(parts, sort_keys=True, default=str).encode())
+    for a in (A, S, ground):
+        h.update(np.ascontiguousarray(a, dtype=float).tobytes())
+    return h.hexdigest()[:32]
+
+
+def _simulate(recipe, spectra, doses, settings, say):
+    """A :class:`.grid.FadeGrid` on ``doses`` (the grid's concentration nodes)."""
+    axes = [concentration_axis(settings.grid.points, settings.grid.power)
+            for _ in recipe.unmixed]
+    q = mix_resolution(spectra.shape[0])
+    mixes = mix_lattice(spectra.shape[0], q)
+    nodes = (np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, len(axes))
+             if axes else np.zeros((1, 0)))
+    c = recipe.concentrations(nodes)
+    shape = tuple(a.size for a in axes)
+    A, Sc, ground = recipe.optics(WAVELENGTHS)
+    beta = recipe.sensitivity(WAVELENGTHS)
+    change = np.empty((mixes.shape[0], doses.size) + shape + (3,), dtype=np.float32)
+    initial = None
+    for k, w in enumerate(mixes):
+        say(0.1 + 0.7 * k / len(mixes), f"simulating {recipe.name}: light mix {k + 1}/{len(mixes)}")
+        # the recipe's own solver, stepping at the table's dose nodes only (its extra
+        # cubic nodes, Recipe.simulate, would all lie past 10⁸ lux·h on this long axis)
+        r = simulate(A, Sc, c, beta, w @ spectra, ground, WAVELENGTHS,
+                     thickness=recipe.thickness, duration=doses[-1], record=doses[1:],
+                     yields=recipe.yield_matrix(), **recipe.solver())
+        XYZ0 = np.maximum(reflectance_to_XYZ(r.initial, WAVELENGTHS), _XYZ_FLOOR)
+        XYZ = np.maximum(reflectance_to_XYZ(r.history, WAVELENGTHS), _XYZ_FLOOR)
+        if axes:
+            initial = np.log(XYZ0).reshape(shape + (3,)).astype(np.float32)
+        change[k, 0] = 0.0
+        change[k, 1:] = np.log(XYZ / XYZ0).reshape((doses.size - 1,) + shape + (3,))
+    return FadeGrid("", recipe.name, axes, mixes, doses, change, q, initial)
+
+
+def _saturated_length(curves):
+    """Dose nodes to keep: up to the first after which nothing changes by
+    :data:`_SATURATED` any more (curves (U, M, T, 3))."""
+    last = curves[:, :, -1:]
+    moving = np.abs(curves - last).max(axis=(0, 1, 3)) > _SATURATED
+    idx = np.flatnonzero(moving)
+    return int(min(curves.shape[2], (idx[-1] + 2) if idx.size else 2))
+
+
+def build_table(recipe, spectra_keys_, settings=TableSettings(), prior=None, progress=None,
+                restore_kw=None):
+    """Build the colour table of ``recipe`` under the spectra ``spectra_keys_``.
+
+    Parameters
+    ----------
+    recipe : Recipe
+    spectra_keys_ : sequence of (spectrum name, uv_filter)
+        The set's spectra (:func:`.lights.spectra_keys`), 1 to 4.
+    settings : TableSettings
+    prior : Prior, optional
+        The texture is already old: the cube's colours are seen colours, restored to
+        new first (:func:`.restore.restore`), and the change is from the seen colour.
+    progress : callable(fraction, message), optional
+    restore_kw : dict, optional
+        Extra keyword arguments of :func:`.restore.restore` (grid store, cache).
+
+    Returns
+    -------
+    ColourTable
+    """
+    say = progress or (lambda f, m: None)
+    keys = [tuple(k) for k in spectra_keys_]
+    spectra = np.stack([light_spectrum(s, WAVELENGTHS, uv) for s, uv in keys])
+    doses = _dose_axis(settings)
+    seen = cube_colours(settings.side, settings.gamma)
+    lost = None
+    original = seen
+    if prior is not None:
+        say(0.0, "restoring the cube's colours to new")
+        back = restore(seen, prior.years, recipe, prior.lights, encoding="linear",
+                       **(restore_kw or {}))
+        original, lost = back.image.astype(float), back.lost.reshape((settings.side,) * 3)
+    grid = _simulate(recipe, spectra, doses, settings, say)
+    say(0.8, f"change curves for {seen.shape[0]} colours")
+    unmixer = get_unmixer(recipe)
+    encoded = srgb_encode(np.clip(original, 0, 1))
+    c = unmixer.unmix(encoded, encoded=True, refine=2) if unmixer.Cu else np.zeros((len(seen), 0))
+    initial = np.log(np.maximum(unmixer.XYZ(c), _XYZ_FLOOR)) if grid.initial is not None else None
+    curves = grid.curves(c, initial)                                      # (U, M, T, 3)
+    if prior is not None:
+        XYZ_seen = np.maximum(linear_srgb_to_XYZ(seen), _XYZ_FLOOR)
+        XYZ_new = np.maximum(linear_srgb_to_XYZ(np.clip(original, 0, None)), _XYZ_FLOOR)
+        curves = curves + np.log(XYZ_new / XYZ_seen).astype(np.float32)[:, None, None, :]
+    T = _saturated_length(curves)
+    rows = mix_slots(len(keys), grid.q)
+    N = settings.side
+    values = np.zeros((rows.size, T, N, N, N, 3), dtype=np.float16)
+    used = rows >= 0
+    values[used] = np.moveaxis(curves[:, rows[used], :T], 0, 2).reshape(
+        int(used.sum()), T, N, N, N, 3)
+    say(1.0, "table ready")
+    return ColourTable(values, doses[:T].astype(np.float64), float(settings.gamma),
+                       float(settings.per_decade), float(settings.low_dose), grid.q, len(keys),
+                       prior is not None, table_key(recipe, keys, settings, prior), lost)
+
+def load_or_build(recipe, spectra_keys_, settings=TableSettings(), prior=None, progress=None,
+                  cache=True, restore_kw=None):
+    """The table from the disk cache (:func:`.cache.directory`), or built and kept there."""
+    key = table_key(recipe, spectra_keys_, settings, prior)
+    path = directory() / f"table-{key}.npz"
+    if cache:
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                info = json.loads(str(z["info"]))
+                if info["key"] == key:
+                    lost = z["lost"] if z["lost"].size else None
+                    return ColourTable(z["values"], z["doses"], info["gamma"],
+                                       info["per_decade"], info["low_dose"], info["q"],
+                                       info["S"], bool(info["history"]), key, lost)
+        except (OSError, KeyError, ValueError):
+            pass
+    table = build_table(recipe, spectra_keys_, settings, prior, progress, restore_kw)
+    if cache:
+        _write(path, table)
+    return table
+
+
+def _write(path, table):
+    buf = io.BytesIO()
+    np.savez(buf, values=table.values, doses=table.doses, info=json.dumps(table.info()),
+             lost=table.lost if table.lost is not None else np.zeros(0, bool))
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=".table-", suffix=".tmp", dir=path.parent)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(buf.getvalue())
+        os.replace(tmp, path)
+    except OSError:
+        pass  # a read-only cache only costs a rebuild next time
