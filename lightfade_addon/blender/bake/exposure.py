@@ -24,7 +24,7 @@ import numpy as np
 from . import daylight as _daylight
 from . import denoise as _denoise
 from . import sizing
-from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
+from .common import LUX_PER_BAKE_UNIT, UV_MAP_NAME, BakeCancelled, LightFadeBakeError, luminance
 from .emitters import group_emitters, find_emitters, isolate
 from .maps import members, prune_maps, store_map
 from .presets import PRESETS
@@ -86,6 +86,33 @@ class BakeSettings:
         )
 
 
+def planned_map(obj, depsgraph, settings, diagnose=True):
+    """The size and UV map ``obj`` will be baked with: ``(width, UvPlan)``, or
+    ``(width, problem line)``.
+
+    The bake, its estimate and the panel all call this.  A ``LightFadeUV`` map, made or
+    to be made, is sized from the object's area alone (:data:`.sizing.PACK_FILL`): a
+    re-bake keeps the map and its size, and the estimate gives the size the bake makes.
+    ``diagnose``: as :func:`.uvmaps.plan_uv` (False in a panel's draw).
+    """
+    layers = obj.data.uv_layers
+    made = obj.lightfade.uv_created and UV_MAP_NAME in layers
+    own = UV_MAP_NAME if made else (layers.active.name if layers.active else None)
+    size = _size(obj, depsgraph, settings, None if own == UV_MAP_NAME else own)
+    plan = plan_uv(obj, depsgraph, size, diagnose)
+    if isinstance(plan, str) or plan.uv_name == own:
+        return size, plan
+    return _size(obj, depsgraph, settings, None), plan
+
+
+def _size(obj, depsgraph, settings, uv_name):
+    """Map width of ``obj`` baked on ``uv_name`` (None: a ``LightFadeUV`` map)."""
+    if settings.resolution:
+        return int(settings.resolution)
+    world, uv = sizing.surface_and_uv_area(obj, depsgraph, uv_name)
+    return sizing.density_size(world, uv, settings.texels_per_metre, settings.max_size)
+
+
 @dataclass
 class _Step:
     group: object
@@ -141,8 +168,7 @@ class ExposureBake:
         depsgraph = bpy.context.evaluated_depsgraph_get()
         self.sizes, self.uv_plans = {}, {}
         for obj in targets:
-            size = self._size(obj, depsgraph, None)
-            plan = plan_uv(obj, depsgraph, size)
+            size, plan = planned_map(obj, depsgraph, self.settings)
             if isinstance(plan, str):
                 problems.append(plan)
             else:
@@ -164,15 +190,6 @@ class ExposureBake:
         self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
                      for s in self.steps]
         return self
-
-    def _size(self, obj, depsgraph, uv_name):
-        s = self.settings
-        if s.resolution:
-            return int(s.resolution)
-        if uv_name is None:
-            uv_name = obj.data.uv_layers.active.name if obj.data.uv_layers else None
-        world, uv = sizing.surface_and_uv_area(obj, depsgraph, uv_name)
-        return sizing.density_size(world, uv, s.texels_per_metre, s.max_size)
 
     def _reusable(self, obj, group):
         """Existing maps of ``obj`` holding exactly ``group``'s emitters (only_changed)."""
@@ -212,11 +229,10 @@ class ExposureBake:
         for obj in self.targets:
             plan = self.uv_plans[obj.name]
             if plan.make:
-                make_unique_uv(obj, self.view_layer)
+                make_unique_uv(obj, self.view_layer, self.sizes[obj.name])
                 self.notes.append(plan.note)
                 self.report(plan.note)
                 depsgraph.update()
-                self.sizes[obj.name] = self._size(obj, depsgraph, plan.uv_name)
             layers = obj.data.uv_layers
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))

@@ -2,7 +2,9 @@
 
 An object of world-space surface ``A`` (m²) whose UV islands cover a share ``a`` of the
 0-1 square gets an ``N × N`` map with ``N = d √(A / a)`` for a density of ``d`` texels
-per metre, rounded up to a multiple of 8 and capped.  Cycles' bake time grows with
+per metre, rounded up to a multiple of 8 and capped.  A ``LightFadeUV`` map (made, or to
+be made) is sized with ``a =`` :data:`PACK_FILL` whatever its layout, so the estimate
+before the map exists, the bake that makes it and every re-bake give the same size.  Cycles' bake time grows with
 texels × samples (per-call overhead is small); a tiny calibration bake on the scene
 measures the rate.
 """
@@ -18,8 +20,9 @@ import numpy as np
 from .uvmaps import evaluated_mesh, triangle_uvs
 
 MIN_SIZE = 16
-#: Share of the 0-1 square Smart UV Project typically fills (for a map not made yet).
-UNWRAP_FILL = 0.6
+#: Share of the 0-1 square a ``LightFadeUV`` map is sized for: the packing of
+#: :func:`.uvmaps.make_unique_uv` fills 0.56-0.60 on real meshes (a sofa, a curtain).
+PACK_FILL = 0.55
 #: Denoising cost, seconds per million texels on 2 cores (4.3 s of CPU per 1024² map, docs/bake.md).
 DENOISE_SECONDS_PER_MTEXEL = 2.2
 
@@ -34,7 +37,7 @@ def _areas(tri3, tri_uv):
 def surface_and_uv_area(obj, depsgraph, uv_name):
     """World-space area (m²) of ``obj`` as rendered, and its UV area in ``uv_name`` (0-1 units).
 
-    Without ``uv_name`` the UV area is :data:`UNWRAP_FILL`.
+    Without ``uv_name`` the UV area is :data:`PACK_FILL`.
     """
     with evaluated_mesh(obj, depsgraph) as mesh:
         mesh.calc_loop_triangles()
@@ -49,7 +52,7 @@ def surface_and_uv_area(obj, depsgraph, uv_name):
         if uv_name and uv_name in mesh.uv_layers:
             world, uv = _areas(tri3, triangle_uvs(mesh, uv_name)[0])
         else:
-            world, uv = _areas(tri3, np.zeros((n, 3, 2)))[0], UNWRAP_FILL
+            world, uv = _areas(tri3, np.zeros((n, 3, 2)))[0], PACK_FILL
     return world, uv
 
 
