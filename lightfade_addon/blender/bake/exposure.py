@@ -23,6 +23,7 @@ import numpy as np
 
 from . import daylight as _daylight
 from . import denoise as _denoise
+from . import filter3d
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, UV_MAP_NAME, BakeCancelled, LightFadeBakeError, luminance
 from .emitters import group_emitters, find_emitters, isolate
@@ -30,7 +31,7 @@ from .maps import members, prune_maps, store_map
 from .presets import PRESETS
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
-from .uvmaps import island_map, make_unique_uv, plan_uv
+from .uvmaps import make_unique_uv, plan_uv, texel_geometry
 
 
 @dataclass
@@ -238,10 +239,10 @@ class ExposureBake:
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))
         self.state.configure(self.settings.samples, self.settings.margin, self.settings.seed)
         self.nodes = attach_targets(self.state, self.targets)
-        self.islands = {}
+        self.geometry = {}
         if self.settings.denoise:
             for obj in self.targets:
-                self.islands[obj.name] = island_map(
+                self.geometry[obj.name] = texel_geometry(
                     obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
                     self.settings.margin)
         self.done = 0
@@ -279,8 +280,9 @@ class ExposureBake:
         return self.done < len(self.steps)
 
     def _finish_map(self, obj, image):
-        """Denoise (keeping the raw bake's local mean), take the luminance, scale to
-        lux: RGB = lux, A = 1."""
+        """Denoise (keeping the raw bake's local mean), average the raw bake over its
+        3D neighbours guided by the denoised map, take the luminance, scale to lux:
+        RGB = lux, A = 1."""
         n = image.size[0]
         px = np.empty(n * n * 4, dtype=np.float32)
         image.pixels.foreach_get(px)
@@ -288,9 +290,14 @@ class ExposureBake:
         rgb = px[..., :3]
         Y = luminance(rgb)
         if self.settings.denoise:
-            labels = self.islands[obj.name]
-            denoised = _denoise.guard(_denoise.denoise(rgb, _denoise.island_colours(labels)), rgb)
-            Y = _denoise.preserve_mean(luminance(denoised), Y, labels >= 0)
+            geo = self.geometry[obj.name]
+            inside = geo.island >= 0
+            denoised = _denoise.guard(_denoise.denoise(rgb, _denoise.island_colours(geo.island)),
+                                      rgb)
+            guide = _denoise.preserve_mean(luminance(denoised), Y, inside)
+            Y = filter3d.smooth_on_surface(Y, guide, geo.position, geo.normal, geo.covered,
+                                           geo.texel)
+            Y = filter3d.extend_over_margin(Y, geo.covered, inside)
         lux = np.maximum(Y, 0.0) * LUX_PER_BAKE_UNIT
         px[..., :3] = lux[..., None]
         px[..., 3] = 1.0

@@ -78,13 +78,48 @@ def evaluated_mesh(obj, depsgraph):
         obj_eval.to_mesh_clear()
 
 
-def island_map(obj, depsgraph, uv_name, size, margin):
-    """(size, size) island label per texel of ``obj``'s baked UVs, grown by ``margin``."""
+@dataclass
+class TexelGeometry:
+    """Where each texel of an object's map lies on its surface (world space).
+
+    ``position`` (H, W, 3) metres and ``normal`` (H, W, 3) unit face normals of the
+    texels whose centre lies in a UV triangle (``covered``); ``island`` (H, W) the UV
+    island of every texel, grown over the bake margin (-1 outside); ``texel`` the mean
+    world size of a texel (m).
+    """
+
+    position: np.ndarray
+    normal: np.ndarray
+    covered: np.ndarray
+    island: np.ndarray
+    texel: float
+
+
+def texel_geometry(obj, depsgraph, uv_name, size, margin):
+    """:class:`TexelGeometry` of ``obj``'s baked UVs at ``size`` (modifiers applied)."""
     with evaluated_mesh(obj, depsgraph) as mesh:
         tri, poly = triangle_uvs(mesh, uv_name)
-        labels = polygon_islands(mesh, uv_name)[poly]
-    _, label = raster.rasterise(tri, size, labels, strict=False)
-    return raster.dilate_labels(label, margin)
+        islands = polygon_islands(mesh, uv_name)[poly]
+        n = len(mesh.loop_triangles)
+        verts = np.empty(n * 3, dtype=np.int64)
+        mesh.loop_triangles.foreach_get("vertices", verts)
+        co = np.empty(len(mesh.vertices) * 3, dtype=np.float64)
+        mesh.vertices.foreach_get("co", co)
+    matrix = np.array(obj.matrix_world, dtype=np.float64)
+    co = co.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
+    corners = co[verts].reshape(n, 3, 3)
+    face = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+    area = 0.5 * np.linalg.norm(face, axis=1)
+    face /= np.maximum(2.0 * area, 1e-20)[:, None]
+    _, tri_index = raster.rasterise(tri, size, np.arange(n), strict=False)
+    weights = raster.barycentric(tri, size, tri_index)
+    covered = tri_index >= 0
+    safe = np.where(covered, tri_index, 0)
+    position = np.einsum("hwk,hwkc->hwc", weights, corners[safe])
+    normal = np.where(covered[..., None], face[safe], 0.0)
+    label = np.where(covered, islands[safe], -1)
+    texel = float(np.sqrt(area.sum() / max(np.count_nonzero(covered), 1)))
+    return TexelGeometry(position, normal, covered, raster.dilate_labels(label, margin), texel)
 
 
 # ----------------------------------------------------------------------- checks
