@@ -23,7 +23,9 @@ gets at least 5 % of the object's 99th-percentile lux.  Printed per object and b
   metres of it in 3D whose normals face the same way (dot > 0.5), in both bakes: what
   is left is blotches, not grain;
 * the share of the map inside its UV islands;
-* wall and CPU seconds of each bake (all objects), and their ratio to the default's.
+* wall and CPU seconds of each bake (all objects), and their ratio to the default's;
+* the panel's estimate of the default bake (map sizes, seconds after Calibrate) against
+  the sizes and time the bake made.
 """
 
 from __future__ import annotations
@@ -140,6 +142,17 @@ def bake(scene, objects, quality, samples, save=None):
     return values, wall, cpu
 
 
+def planned_estimate(scene, objects):
+    """The panel's estimate of the default bake (after Calibrate): sizes and seconds."""
+    from lightfade_addon.blender.bake import BakeSettings, ExposureBake, calibrate
+
+    calibrate(scene, objects[0])
+    scene.lightfade_bake.quality = "FINAL"
+    job = ExposureBake(scene, objects, BakeSettings.from_scene(scene),
+                       report=lambda m: None).plan()
+    return dict(job.sizes), job.estimate()
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("assets", help="directory of glTF models (see tools/real_room.py)")
@@ -171,6 +184,7 @@ def main():
         runs.append((f"{args.samples} samples", "CUSTOM", args.samples))
     if cache is None or not cache.exists():
         runs.append((f"{args.reference} samples", "CUSTOM", args.reference))
+    estimate = planned_estimate(scene, objects)
     results = [(label, *bake(scene, objects, q, s, args.save_maps)) for label, q, s in runs]
     if cache is not None and cache.exists():
         stored = np.load(cache)
@@ -202,7 +216,10 @@ def main():
     print(f"\n{'bake':<18} {'wall s':>8} {'CPU s':>8} {'CPU ÷ default':>14}")
     for label, _, wall, cpu in results:
         print(f"{label:<18} {wall:>8.1f} {cpu:>8.1f} {cpu / cpu0:>14.2f}")
-    print(f"(default wall {wall0:.1f} s)")
+    sizes, est = estimate
+    made = {name: v[3] for name, v in results[0][1].items()}
+    print(f"estimate before the bake: sizes {sizes}, {est.text()}; the default bake made "
+          f"{made} in {wall0:.1f} s")
 
 
 if __name__ == "__main__":

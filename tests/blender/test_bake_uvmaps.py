@@ -135,3 +135,56 @@ class TestRebake:
         made = {name: maps[name]["Sun"].size[0] for name in planned}
         assert made == planned
         assert len(set(made.values())) == 3             # three different sizes
+
+
+def polygon_centre_lux(obj, image):
+    """Lux of ``image`` at the centroid of each polygon's first triangle (bilinear), and
+    those centroids' world positions."""
+    from scipy.ndimage import map_coordinates
+
+    mesh = obj.data
+    tri, poly = uvmaps.triangle_uvs(mesh, obj.lightfade.uv_map)
+    first = np.unique(poly, return_index=True)[1]
+    uv = tri[first].mean(axis=1)
+    w, h = image.size
+    px = np.empty(w * h * 4, np.float32)
+    image.pixels.foreach_get(px)
+    lux = px.reshape(h, w, 4)[..., 0]
+    return map_coordinates(lux, [uv[:, 1] * h - 0.5, uv[:, 0] * w - 0.5], order=1)
+
+
+class TestSmoothOnFolds:
+    def test_default_bake_of_a_folded_cloth_in_strips_is_close_to_many_samples(
+            self, cloth_scene, monkeypatch):
+        """A two-sided folded cloth without UVs (Smart UV Project, packed) under a sun and
+        a wide area lamp: the default 8-sample bake against 256 samples at the polygon
+        centres.  Smoothing over 3D neighbours across islands takes the 95th percentile
+        of the error down (measured: sun 6.3 % -> 5.7 %, lamp 17.1 % -> 15.5 %)."""
+        from lightfade_addon.blender.bake import filter3d
+
+        cloth = cloth_scene
+        cloth.data.uv_layers.remove(cloth.data.uv_layers[0])
+        lamp = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "AREA"))
+        lamp.data.energy, lamp.data.size = 200.0, 3.0        # a wide soft light: noisy
+        lamp.location = (0.0, -0.8, 2.2)
+        bpy.context.scene.collection.objects.link(lamp)
+        base = dict(SIZED.__dict__, unwrap=True, texels_per_metre=40.0)
+        reference = {group: polygon_centre_lux(cloth, image) for group, image in bake_exposure(
+            bpy.context.scene, [cloth], BakeSettings(**dict(base, samples=256)))["maps"]["Cloth"].items()}
+        default = BakeSettings(**dict(base, samples=8, denoise=True))
+
+        def errors():
+            maps = bake_exposure(bpy.context.scene, [cloth], default)["maps"]["Cloth"]
+            out = {}
+            for group, image in maps.items():
+                ref = reference[group]
+                got = polygon_centre_lux(cloth, image)
+                lit = ref > 0.05 * np.percentile(ref, 99)
+                out[group] = np.percentile(np.abs(got - ref)[lit] / ref[lit], 95)
+            return out
+
+        with_filter = errors()
+        monkeypatch.setattr(filter3d, "smooth_on_surface", lambda raw, guide, *a, **k: guide)
+        without = errors()
+        assert with_filter["Sun"] < 0.08 and with_filter["Lamp"] < 0.2
+        assert all(with_filter[g] < 0.95 * without[g] for g in with_filter)

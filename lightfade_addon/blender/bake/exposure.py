@@ -280,8 +280,8 @@ class ExposureBake:
         return self.done < len(self.steps)
 
     def _finish_map(self, obj, image):
-        """Denoise (keeping the raw bake's local mean), average the raw bake over its
-        3D neighbours guided by the denoised map, take the luminance, scale to lux:
+        """Denoise (keeping the raw bake's local mean), average the denoised map over its
+        3D neighbours on the surface (across islands), take the luminance, scale to lux:
         RGB = lux, A = 1."""
         n = image.size[0]
         px = np.empty(n * n * 4, dtype=np.float32)
@@ -295,7 +295,7 @@ class ExposureBake:
             denoised = _denoise.guard(_denoise.denoise(rgb, _denoise.island_colours(geo.island)),
                                       rgb)
             guide = _denoise.preserve_mean(luminance(denoised), Y, inside)
-            Y = filter3d.smooth_on_surface(Y, guide, geo.position, geo.normal, geo.covered,
+            Y = filter3d.smooth_on_surface(guide, guide, geo.position, geo.normal, geo.covered,
                                            geo.texel)
             Y = filter3d.extend_over_margin(Y, geo.covered, inside)
         lux = np.maximum(Y, 0.0) * LUX_PER_BAKE_UNIT
