@@ -25,13 +25,14 @@ from . import daylight as _daylight
 from . import denoise as _denoise
 from . import filter3d
 from . import sizing
-from .common import LUX_PER_BAKE_UNIT, UV_MAP_NAME, BakeCancelled, LightFadeBakeError, luminance
+from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
 from .emitters import group_emitters, find_emitters, isolate
 from .maps import members, prune_maps, store_map
 from .presets import PRESETS
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
-from .uvmaps import make_unique_uv, plan_uv, texel_geometry
+from .sizing import planned_map
+from .uvmaps import make_unique_uv, texel_geometry
 
 
 @dataclass
@@ -85,33 +86,6 @@ class BakeSettings:
             texels_per_metre=bake.texels_per_metre,
             max_size=props.bake_resolution,
         )
-
-
-def planned_map(obj, depsgraph, settings, diagnose=True):
-    """The size and UV map ``obj`` will be baked with: ``(width, UvPlan)``, or
-    ``(width, problem line)``.
-
-    The bake, its estimate and the panel all call this.  A ``LightFadeUV`` map, made or
-    to be made, is sized from the object's area alone (:data:`.sizing.PACK_FILL`): a
-    re-bake keeps the map and its size, and the estimate gives the size the bake makes.
-    ``diagnose``: as :func:`.uvmaps.plan_uv` (False in a panel's draw).
-    """
-    layers = obj.data.uv_layers
-    made = obj.lightfade.uv_created and UV_MAP_NAME in layers
-    own = UV_MAP_NAME if made else (layers.active.name if layers.active else None)
-    size = _size(obj, depsgraph, settings, None if own == UV_MAP_NAME else own)
-    plan = plan_uv(obj, depsgraph, size, diagnose)
-    if isinstance(plan, str) or plan.uv_name == own:
-        return size, plan
-    return _size(obj, depsgraph, settings, None), plan
-
-
-def _size(obj, depsgraph, settings, uv_name):
-    """Map width of ``obj`` baked on ``uv_name`` (None: a ``LightFadeUV`` map)."""
-    if settings.resolution:
-        return int(settings.resolution)
-    world, uv = sizing.surface_and_uv_area(obj, depsgraph, uv_name)
-    return sizing.density_size(world, uv, settings.texels_per_metre, settings.max_size)
 
 
 @dataclass

@@ -9,7 +9,8 @@ from ...output import plural
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, UV_MAP_NAME, luminance
 from .emitters import find_emitters, group_emitters, world_counts
-from .exposure import BakeSettings, planned_map
+from .exposure import BakeSettings
+from .sizing import planned_map
 from .presets import PRESETS
 from .targets import find_targets, validate_targets
 
