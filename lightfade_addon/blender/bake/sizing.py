@@ -25,8 +25,8 @@ MIN_SIZE = 16
 #: :func:`.uvmaps.make_unique_uv` fills 0.56-0.60 on real meshes (a sofa, a curtain).
 PACK_FILL = 0.55
 #: Denoising cost, seconds per million texels on 2 cores: OIDN (4.3 s of CPU per 1024² map)
-#: and the 3D filter (3.6 s of CPU, its neighbour search on both cores); docs/bake.md.
-DENOISE_SECONDS_PER_MTEXEL = 4.0
+#: and the 3D filter (2.6 s of CPU, its neighbour search on both cores); docs/bake.md.
+DENOISE_SECONDS_PER_MTEXEL = 3.5
 
 
 def _areas(tri3, tri_uv):
