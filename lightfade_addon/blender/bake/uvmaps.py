@@ -6,8 +6,9 @@ the UV map *as baked* (the evaluated mesh, modifiers included) are rasterised at
 resolution (:mod:`.raster`) and:
 
 * overlap or UVs outside 0-1 in the mesh's own UVs: LightFade makes a unique UV map
-  ``LightFadeUV`` (Smart UV Project into a new map; the user's maps are left alone) and
-  says so;
+  ``LightFadeUV`` (a copy of the mesh's UVs, islands folded onto themselves unwrapped
+  anew, all islands packed: :func:`make_unique_uv`; the user's maps are left alone) and
+  says so; a re-bake keeps it;
 * overlap made by a modifier (Mirror, Array, Solidify...): a unique UV of the evaluated
   mesh would need the modifier applied, so the object is refused with one line naming the
   object, the modifier and the fix.
