@@ -160,7 +160,7 @@ class TestSmoothOnFolds:
         """A two-sided folded cloth without UVs (Smart UV Project, packed) under a sun and
         a wide area lamp: the default 8-sample bake against 256 samples at the polygon
         centres.  Smoothing over 3D neighbours across islands takes the 95th percentile
-        of the error down (measured: sun 6.3 % -> 5.7 %, lamp 17.1 % -> 15.5 %).  A study
+        of the error down (measured: sun 6.3 % -> 5.6 %, lamp 17.1 % -> 15.3 %).  A study
         (~15 s): the filter's own behaviour is tested in test_denoise.py."""
         from lightfade_addon.blender.bake import filter3d
 
