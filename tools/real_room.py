@@ -1,169 +1,150 @@
-"""Assemble a furnished living room from public CC0 glTF assets, for trying LightFade.
+"""A furnished living room from a directory of glTF models (Poly Haven CC0 assets).
 
-The assets are Poly Haven models (CC0) as laid out by Drake's tutorial room
-(``furnished_living_room.dmd.yaml``: a room shell with a window, a sofa, curtains, two
-painted cabinets, a bookshelf, a stool). They are not part of this repository: pass the
-directory that holds the ``.gltf`` files and their ``textures/``.
+Usage (from the repository root)::
 
-    ./run py tools/real_room.py ASSETS_DIR out/real_room.blend [--render out/real_room.png]
+    python tools/real_room.py ASSET_DIR [--save room.blend] [--render room.png]
 
-The room is imported the way an artist imports it (``bpy.ops.import_scene.gltf``), placed
-as the layout file places it (z-up metres, rotations about +Z), stood at 52° N with
-annual daylight (:func:`lightfade_addon.api.set_daylight`), and the fabrics, paints and
-woods are marked for aging with the recipe an artist would pick. Nothing is baked.
+or from Python: ``build(asset_dir)`` returns ``{role: [object names]}``.
+
+The room (metres, z up, scene +Y is geographic north): inside x in [-2.5, 2.5], y in
+[-2.25, 2.25], z in [0, 3]; one window in the south wall (y = -2.25), the opening x in
+[-1, 1], z in [0.7, 2.5], open (no glass).  Daylight: ``api.set_daylight`` at 52° N,
+5° E, a clear sky (one annual bake of the year's sun and sky).  Models are found by their
+file names and placed when present (nothing else is needed):
+
+========================  =========================================================
+file name contains        placed
+========================  =========================================================
+``sofa``                  against the north wall, facing the window
+``curtain``               just inside the window (panels drawn to the sides)
+``cabinet_02``            against the west wall, facing east
+``cabinet`` (other)       against the east wall, facing west
+``stool``                 on the floor in front of the sofa
+========================  =========================================================
+
+Each model keeps its own materials (imported by Blender's glTF importer); LightFade is
+enabled on the materials of the models, not on the walls and floor.  Assets are never
+part of the repository: pass the directory they are in.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
-import pathlib
 import sys
+from pathlib import Path
 
-#: (glTF file, translation in metres, rotation about +Z in degrees): the layout's welds.
-LAYOUT = (
-    ("living_room.gltf", (0.0, 0.0, 0.0), 0.0),
-    ("painted_wooden_cabinet_1k.gltf", (-1.7753, 2.5818, 0.0), 0.0),
-    ("wooden_bookshelf_worn_1k.gltf", (2.716, -1.0716, 0.0), -90.0),
-    ("painted_wooden_cabinet_02_1k.gltf", (0.0235, 2.6566, 0.0), 0.0),
-    ("sofa_03_1k.gltf", (0.0, -2.4117, 0.0), 180.0),
-    ("painted_wooden_stool_1k.gltf", (1.7744, 1.6287, 0.0), 30.0),
-    ("curtain_open.gltf", (0.0, 0.0, 0.0), 0.0),
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import bpy  # noqa: E402
+
+ROOM = dict(x=(-2.5, 2.5), y=(-2.25, 2.25), height=3.0)
+WINDOW = dict(x=(-1.0, 1.0), z=(0.7, 2.5))
+PLACE = dict(latitude=52.0, longitude=5.0, north=0.0)
+
+#: (role, test on the lower-case file name, where: (x, y) of the model's origin, z turn in
+#: degrees).  The models face -Y as exported; a turn of +90° makes them face +X.  The
+#: curtain model hangs 2.85-3.0 m south of its origin: (0, 0.8) puts it 5-20 cm inside
+#: the south wall.
+PLACEMENTS = (
+    ("sofa", lambda n: "sofa" in n, (0.0, 1.72), 0.0),
+    ("curtain", lambda n: "curtain" in n, (0.0, 0.8), 0.0),
+    ("tall_cabinet", lambda n: "cabinet_02" in n, (-2.15, 0.0), 90.0),
+    ("cabinet", lambda n: "cabinet" in n and "cabinet_02" not in n, (2.17, 0.2), -90.0),
+    ("stool", lambda n: "stool" in n, (0.9, 0.5), 20.0),
 )
 
-#: Material name (as imported) -> recipe an artist would choose.
-RECIPES = {
-    "sofa_03": "DYED_FABRIC",
-    "curtain": "DYED_FABRIC",
-    "DoorMat": "DYED_FABRIC",
-    "painted_wooden_cabinet": "PAINTED_WOOD",
-    "painted_wooden_cabinet_02": "PAINTED_WOOD",
-    "painted_wooden_stool": "PAINTED_WOOD",
-    "wooden_bookshelf_worn": "BARE_WOOD",
-    "Floor": "BARE_WOOD",
-}
+
+def _wall_y(y, x0, x1, z0, z1):
+    return ((x0, y, z0), (x1, y, z0), (x1, y, z1), (x0, y, z1))
 
 
-def import_layout(assets):
-    """Import every model of :data:`LAYOUT` and place it; returns the new objects."""
-    import bpy
+def shell():
+    """Floor, walls and ceiling (inward faces, one object each), the window left open."""
+    from scenes import common as C
+    from scenes.meshes import mesh_from_quads
 
-    made = []
-    for name, (x, y, z), rz in LAYOUT:
-        before = set(bpy.data.objects)
-        bpy.ops.import_scene.gltf(filepath=str(assets / name))
-        new = [o for o in bpy.data.objects if o not in before]
-        holder = bpy.data.objects.new(pathlib.Path(name).stem, None)
-        bpy.context.scene.collection.objects.link(holder)
-        holder.location = (x, y, z)
-        holder.rotation_euler = (0.0, 0.0, math.radians(rz))
-        for ob in new:
-            if ob.parent is None:
-                ob.parent = holder
-        made += new
-    return made
-
-
-def mark_materials(recipes=RECIPES):
-    """Tick *Age this Material* with the recipe of :data:`RECIPES` where a name matches."""
-    import bpy
-
-    marked = []
-    for mat in bpy.data.materials:
-        recipe = recipes.get(mat.name)
-        if recipe is not None:
-            mat.lightfade.enabled = True
-            mat.lightfade.recipe = recipe
-            marked.append(mat.name)
-    return marked
+    (x0, x1), (y0, y1), H = ROOM["x"], ROOM["y"], ROOM["height"]
+    (wx0, wx1), (wz0, wz1) = WINDOW["x"], WINDOW["z"]
+    walls = [
+        _wall_y(y0, x0, wx0, 0, H), _wall_y(y0, wx1, x1, 0, H),
+        _wall_y(y0, wx0, wx1, 0, wz0), _wall_y(y0, wx0, wx1, wz1, H),
+        ((x1, y1, 0), (x0, y1, 0), (x0, y1, H), (x1, y1, H)),
+        ((x0, y1, 0), (x0, y0, 0), (x0, y0, H), (x0, y1, H)),
+        ((x1, y0, 0), (x1, y1, 0), (x1, y1, H), (x1, y0, H)),
+        ((x0, y1, H), (x1, y1, H), (x1, y0, H), (x0, y0, H)),
+    ]
+    mesh_from_quads("Walls", walls, material=C.plain_material("Wall_Paint", (0.7, 0.68, 0.64), 0.9))
+    floor = ((x0, y0, 0), (x1, y0, 0), (x1, y1, 0), (x0, y1, 0))
+    mesh_from_quads("Floor", [floor], material=C.plain_material("Floor_Oak", (0.45, 0.3, 0.18), 0.6))
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("assets", type=pathlib.Path)
-    ap.add_argument("output", type=pathlib.Path)
-    ap.add_argument("--latitude", type=float, default=52.0)
-    ap.add_argument("--longitude", type=float, default=5.0)
-    ap.add_argument("--north", type=float, default=0.0)
-    ap.add_argument("--render", type=pathlib.Path)
-    args = ap.parse_args(argv)
+def import_model(path):
+    """Import one glTF file; returns its new mesh objects, parented ones made top-level."""
+    before = set(bpy.data.objects)
+    bpy.ops.import_scene.gltf(filepath=str(path))
+    new = [o for o in bpy.data.objects if o not in before]
+    for obj in new:             # bake the import's hierarchy into world transforms
+        world = obj.matrix_world.copy()
+        obj.parent = None
+        obj.matrix_world = world
+    for obj in [o for o in new if o.type != "MESH"]:
+        bpy.data.objects.remove(obj)
+    return [o for o in new if o.name in bpy.data.objects]
 
-    import bpy
 
-    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
-    import lightfade_addon
-    from lightfade_addon import api
+def place(objects, xy, turn_deg):
+    """Turn the model's objects about the z axis through the origin, then move them."""
+    from mathutils import Matrix
 
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    lightfade_addon.register()
-    import_layout(args.assets.resolve())
-    print("marked:", ", ".join(mark_materials()))
+    move = Matrix.Translation((xy[0], xy[1], 0.0)) @ Matrix.Rotation(
+        math.radians(turn_deg), 4, "Z")
+    for obj in objects:
+        obj.matrix_world = move @ obj.matrix_world
+
+
+def build(asset_dir, daylight=True):
+    """Build the room into a fresh file with LightFade enabled; returns
+    ``{role: [object names]}`` for the models found in ``asset_dir``."""
+    import addon_utils
+
+    from scenes import common as C
+
+    C.reset()
+    addon_utils.enable("lightfade_addon", default_set=True)
+    shell()
+    files = sorted(Path(asset_dir).glob("*.gltf")) + sorted(Path(asset_dir).glob("*.glb"))
+    roles = {}
+    for role, matches, xy, turn in PLACEMENTS:
+        path = next((f for f in files if matches(f.name.lower())), None)
+        if path is None:
+            continue
+        objects = import_model(path)
+        place(objects, xy, turn)
+        for obj in objects:
+            for mat in obj.data.materials:
+                if mat is not None:
+                    mat.lightfade.enabled = True
+        roles[role] = [o.name for o in objects]
     scene = bpy.context.scene
-    clear_glass()
-    add_view_light(scene)
-    api.set_daylight(scene, args.latitude, args.longitude, north=args.north)
-    args.output.parent.mkdir(parents=True, exist_ok=True)
-    bpy.ops.wm.save_as_mainfile(filepath=str(args.output.resolve()))
-    print("saved", args.output)
-    if args.render:
-        render_view(scene, args.render)
+    if daylight:
+        from lightfade_addon import api
+
+        api.set_daylight(scene, **PLACE)
+    bpy.context.view_layer.update()
+    return roles
 
 
-def clear_glass(name="Glass"):
-    """The window pane imports opaque (glTF has no transmission here): make it clear, as an
-    artist would. Cycles' shadow rays stop at refractive glass, so the pane is made 92 %
-    transparent (alpha 0.08, about what a pane reflects), keeping its emission (the glTF's
-    ``emissiveFactor``) as imported."""
-    import bpy
-
-    mat = bpy.data.materials.get(name)
-    if mat is None or not mat.use_nodes:
-        return
-    for node in mat.node_tree.nodes:
-        if node.type == "BSDF_PRINCIPLED":
-            node.inputs["Alpha"].default_value = 0.08
-            node.inputs["Roughness"].default_value = 0.0
-
-
-def add_view_light(scene, elevation=35.0, strength=4.0):
-    """A sun through the window (the room's window faces -Y) and a pale sky, for renders.
-
-    Once the scene has a place, the annual daylight bake replaces both (they are the
-    scene's daylight); they only light what a render shows.
-    """
-    import bpy
-
-    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
-    scene.collection.objects.link(sun)
-    sun.data.energy = strength
-    sun.rotation_euler = (math.radians(90.0 - elevation), 0.0, math.radians(20.0))
-    sun.data.lightfade.spectrum = "DAYLIGHT_GLASS"
-    world = scene.world or bpy.data.worlds.new("World")
-    scene.world = world
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.55, 0.65, 0.8, 1.0)
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.6
-
-
-def render_view(scene, path, samples=16, size=(480, 270)):
-    """A quick Cycles still from inside the room looking at the sofa."""
-    import bpy
-
-    cam = bpy.data.objects.get("LightFadeRoomCamera")
-    if cam is None:
-        cam = bpy.data.objects.new("LightFadeRoomCamera", bpy.data.cameras.new("LightFadeRoomCamera"))
-        scene.collection.objects.link(cam)
-        cam.location = (0.5, 2.0, 1.5)
-        cam.rotation_euler = (math.radians(78), 0.0, math.radians(175))
-        cam.data.lens = 18
-    scene.camera = cam
-    scene.render.engine = "CYCLES"
-    scene.cycles.samples = samples
-    scene.cycles.device = "CPU"
-    scene.render.resolution_x, scene.render.resolution_y = size
-    scene.render.resolution_percentage = 100
-    scene.render.filepath = str(pathlib.Path(path).resolve())
-    bpy.ops.render.render(write_still=True)
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("assets", help="directory of glTF models (sofa, curtain, cabinets...)")
+    parser.add_argument("--save", help="save the room as this .blend")
+    args = parser.parse_args()
+    roles = build(args.assets)
+    for role, names in roles.items():
+        print(f"{role}: {', '.join(names)}")
+    if args.save:
+        bpy.ops.wm.save_as_mainfile(filepath=str(Path(args.save).resolve()))
 
 
 if __name__ == "__main__":

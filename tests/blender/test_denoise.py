@@ -76,3 +76,66 @@ def test_oidn_smooths_noise_and_keeps_seams_between_islands(dn):
     # bleed across the seam stays within the texel either side of it
     assert abs(out[:, n // 2 + 1].mean() / right.mean() - 1) < 0.15
     assert abs(out[:, n // 2 - 2].mean() / left.mean() - 1) < 0.15
+
+
+@pytest.fixture
+def f3(blender):
+    from lightfade_addon.blender.bake import filter3d
+
+    return filter3d
+
+
+def flipped_halves(n=64, texel=0.01):
+    """An n × n texel square of floor (z = 0, normal +z) cut into two islands: the left
+    half of the map is x in [0, n/2) texels, the right half x in [n/2, n) mirrored, so
+    that texels side by side in the atlas (columns n/2 - 1, n/2) are far apart on the
+    floor, and the seam on the floor (x = n/2) joins the map's columns n/2 - 1 and n - 1."""
+    half = n // 2
+    col = np.arange(n)
+    xs = np.where(col < half, col, half + (n - 1 - col))[None, :].repeat(n, 0) * texel
+    ys = np.arange(n)[:, None].repeat(n, 1) * texel
+    position = np.dstack([xs, ys, np.zeros((n, n))])
+    normal = np.zeros((n, n, 3))
+    normal[..., 2] = 1.0
+    return position, normal, np.ones((n, n), bool), texel
+
+
+def test_3d_filter_averages_across_a_seam_not_across_the_atlas(f3):
+    rng = np.random.default_rng(5)
+    position, normal, covered, texel = flipped_halves()
+    n = covered.shape[0]
+    level = np.where(position[..., 0] < 48 * texel, 1.0, 0.25)    # 1 up to x = 48 texels
+    raw = level * rng.exponential(1.0, level.shape)           # noisy, mean = level
+    flat = np.ones_like(level)                                # a guide without edges
+    out = f3.smooth_on_surface(raw, flat, position, normal, covered, texel)
+    # atlas neighbours (x = 31 | x = 63 texels) do not mix, the seam (x = 31 | 32) does
+    assert abs(out[:, n // 2 - 2:n // 2].mean() - 1.0) < 0.1
+    assert abs(out[:, n // 2:n // 2 + 2].mean() - 0.25) < 0.03
+    # the noise drops ~5× (≈28 texels averaged), as much along the seam, where half of
+    # a texel's 3D neighbours lie in the other island, as inside
+    out = f3.smooth_on_surface(flat * rng.exponential(1.0, level.shape), flat, position,
+                               normal, covered, texel)
+    assert out[4:-4, 4:n // 2 - 4].std() < 0.25 and abs(out.mean() - 1) < 0.05
+    assert out[4:-4, -1].std() < 0.25 and out[4:-4, n // 2 - 1].std() < 0.25
+
+
+def test_3d_filter_keeps_the_edges_the_denoiser_saw_and_the_other_side(f3):
+    rng = np.random.default_rng(6)
+    position, normal, covered, texel = flipped_halves()
+    n = covered.shape[0]
+    lit = position[..., 1] < 32 * texel                       # a shadow edge along y
+    truth = np.where(lit, 1.0, 0.05)
+    raw = truth * rng.exponential(1.0, truth.shape)
+    out = f3.smooth_on_surface(raw, truth, position, normal, covered, texel)
+    # either side of the edge keeps its side's raw mean (no bleed: 20× apart)
+    assert abs(out[32:34].mean() / raw[32:38].mean() - 1) < 0.1
+    assert abs(out[29:32].mean() / raw[26:32].mean() - 1) < 0.05
+    # the back of a sheet 1 mm below, facing down, in the dark: it stays dark
+    back = position.copy()
+    back[..., 2] -= 0.001
+    both_p = np.concatenate([position, back], axis=1)
+    both_n = np.concatenate([normal, -normal], axis=1)
+    both_raw = np.concatenate([np.ones_like(truth), np.zeros_like(truth)], axis=1)
+    out = f3.smooth_on_surface(both_raw, both_raw + 1e-3, both_p, both_n,
+                               np.ones(both_raw.shape, bool), texel)
+    assert np.all(out[:, n:] == 0) and np.allclose(out[:, :n], 1.0)

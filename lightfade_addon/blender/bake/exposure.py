@@ -23,6 +23,7 @@ import numpy as np
 
 from . import daylight as _daylight
 from . import denoise as _denoise
+from . import filter3d
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
 from .emitters import group_emitters, find_emitters, isolate, uncounted_emissive, uncounted_note
@@ -30,7 +31,8 @@ from .maps import members, prune_maps, store_map
 from .presets import PRESETS
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
-from .uvmaps import island_map, make_unique_uv, plan_uv
+from .sizing import planned_map
+from .uvmaps import make_unique_uv, texel_geometry
 
 
 @dataclass
@@ -146,8 +148,7 @@ class ExposureBake:
         depsgraph = bpy.context.evaluated_depsgraph_get()
         self.sizes, self.uv_plans = {}, {}
         for obj in targets:
-            size = self._size(obj, depsgraph, None)
-            plan = plan_uv(obj, depsgraph, size)
+            size, plan = planned_map(obj, depsgraph, self.settings)
             if isinstance(plan, str):
                 problems.append(plan)
             else:
@@ -169,15 +170,6 @@ class ExposureBake:
         self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
                      for s in self.steps]
         return self
-
-    def _size(self, obj, depsgraph, uv_name):
-        s = self.settings
-        if s.resolution:
-            return int(s.resolution)
-        if uv_name is None:
-            uv_name = obj.data.uv_layers.active.name if obj.data.uv_layers else None
-        world, uv = sizing.surface_and_uv_area(obj, depsgraph, uv_name)
-        return sizing.density_size(world, uv, s.texels_per_metre, s.max_size)
 
     def _reusable(self, obj, group):
         """Existing maps of ``obj`` holding exactly ``group``'s emitters (only_changed)."""
@@ -217,20 +209,19 @@ class ExposureBake:
         for obj in self.targets:
             plan = self.uv_plans[obj.name]
             if plan.make:
-                make_unique_uv(obj, self.view_layer)
+                make_unique_uv(obj, self.view_layer, self.sizes[obj.name])
                 self.notes.append(plan.note)
                 self.report(plan.note)
                 depsgraph.update()
-                self.sizes[obj.name] = self._size(obj, depsgraph, plan.uv_name)
             layers = obj.data.uv_layers
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))
         self.state.configure(self.settings.samples, self.settings.margin, self.settings.seed)
         self.nodes = attach_targets(self.state, self.targets)
-        self.islands = {}
+        self.geometry = {}
         if self.settings.denoise:
             for obj in self.targets:
-                self.islands[obj.name] = island_map(
+                self.geometry[obj.name] = texel_geometry(
                     obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
                     self.settings.margin)
         self.done = 0
@@ -268,8 +259,9 @@ class ExposureBake:
         return self.done < len(self.steps)
 
     def _finish_map(self, obj, image):
-        """Denoise (keeping the raw bake's local mean), take the luminance, scale to
-        lux: RGB = lux, A = 1."""
+        """Denoise (keeping the raw bake's local mean), average the denoised map over its
+        3D neighbours on the surface (across islands), take the luminance, scale to lux:
+        RGB = lux, A = 1."""
         n = image.size[0]
         px = np.empty(n * n * 4, dtype=np.float32)
         image.pixels.foreach_get(px)
@@ -277,9 +269,14 @@ class ExposureBake:
         rgb = px[..., :3]
         Y = luminance(rgb)
         if self.settings.denoise:
-            labels = self.islands[obj.name]
-            denoised = _denoise.guard(_denoise.denoise(rgb, _denoise.island_colours(labels)), rgb)
-            Y = _denoise.preserve_mean(luminance(denoised), Y, labels >= 0)
+            geo = self.geometry[obj.name]
+            inside = geo.island >= 0
+            denoised = _denoise.guard(_denoise.denoise(rgb, _denoise.island_colours(geo.island)),
+                                      rgb)
+            guide = _denoise.preserve_mean(luminance(denoised), Y, inside)
+            Y = filter3d.smooth_on_surface(guide, guide, geo.position, geo.normal, geo.covered,
+                                           geo.texel)
+            Y = filter3d.extend_over_margin(Y, geo.covered, inside)
         lux = np.maximum(Y, 0.0) * LUX_PER_BAKE_UNIT
         px[..., :3] = lux[..., None]
         px[..., 3] = 1.0

@@ -7,9 +7,10 @@ import bpy
 
 from ...output import plural
 from . import sizing
-from .common import LUX_PER_BAKE_UNIT, luminance
+from .common import LUX_PER_BAKE_UNIT, UV_MAP_NAME, luminance
 from .emitters import find_emitters, group_emitters, uncounted_emissive, uncounted_note, world_counts
 from .exposure import BakeSettings
+from .sizing import planned_map
 from .presets import PRESETS
 from .targets import find_targets, validate_targets
 
@@ -20,18 +21,15 @@ _SIZE_CACHE = {}
 
 
 def _size(obj, depsgraph, settings):
-    """Map width of ``obj`` under ``settings`` (cached on what it depends on)."""
-    uv = obj.lightfade.uv_map if obj.lightfade.uv_map in obj.data.uv_layers else (
-        obj.data.uv_layers.active.name if obj.data.uv_layers else None)
+    """Map width of ``obj`` under ``settings``, as the bake will make it (cached on what
+    it depends on)."""
+    layers = obj.data.uv_layers
     key = (obj.name, obj.data.name, len(obj.data.polygons), tuple(map(tuple, obj.matrix_world)),
-           uv, settings.texels_per_metre, settings.max_size, settings.resolution)
+           layers.active.name if layers.active else None, obj.lightfade.uv_created,
+           UV_MAP_NAME in layers, settings.texels_per_metre, settings.max_size,
+           settings.resolution)
     if key not in _SIZE_CACHE:
-        if settings.resolution:
-            _SIZE_CACHE[key] = int(settings.resolution)
-        else:
-            world, uv_area = sizing.surface_and_uv_area(obj, depsgraph, uv)
-            _SIZE_CACHE[key] = sizing.density_size(world, uv_area, settings.texels_per_metre,
-                                                   settings.max_size)
+        _SIZE_CACHE[key] = planned_map(obj, depsgraph, settings, diagnose=False)[0]
         if len(_SIZE_CACHE) > 512:
             _SIZE_CACHE.clear()
     return _SIZE_CACHE[key]

@@ -28,8 +28,8 @@ class Preset:
 PRESETS = {
     "PREVIEW": Preset(
         "Preview", "4 samples per texel, denoised: a quick look at where the light falls",
-        samples=4, denoise=True, relative_time=0.11, noise_lit=0.0020, noise_shadow=0.058),
+        samples=4, denoise=True, relative_time=0.15, noise_lit=0.0014, noise_shadow=0.051),
     "FINAL": Preset(
         "Final", "8 samples per texel, denoised: the exposure the aging uses",
-        samples=8, denoise=True, relative_time=0.16, noise_lit=0.0014, noise_shadow=0.051),
+        samples=8, denoise=True, relative_time=0.18, noise_lit=0.0011, noise_shadow=0.044),
 }

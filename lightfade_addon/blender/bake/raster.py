@@ -82,6 +82,38 @@ def rasterise(tri, size, labels=None, strict=True):
     return count, None if label is None else label.reshape(size, size)
 
 
+def barycentric(tri, size, label):
+    """Barycentric weights of texel centres in the triangle each texel belongs to.
+
+    Parameters
+    ----------
+    tri : (T, 3, 2) float array
+        UV triangles.
+    size : int
+        Map width and height.
+    label : (size, size) int array
+        Triangle index per texel (-1: none), as :func:`rasterise` gives with
+        ``labels=np.arange(T)``.
+
+    Returns
+    -------
+    (size, size, 3) float64 array
+        Weights of the triangle's corners (zero where ``label`` is -1); a point ``X``
+        given per corner is ``Σ_k w_k X_k``.
+    """
+    tri = np.asarray(tri, dtype=np.float64)
+    out = np.zeros((size, size, 3))
+    row, col = np.nonzero(label >= 0)
+    t = label[row, col]
+    a, b, c = tri[t, 0], tri[t, 1], tri[t, 2]
+    px, py = (col + 0.5) / size, (row + 0.5) / size
+    den = (b[:, 1] - c[:, 1]) * (a[:, 0] - c[:, 0]) + (c[:, 0] - b[:, 0]) * (a[:, 1] - c[:, 1])
+    l1 = ((b[:, 1] - c[:, 1]) * (px - c[:, 0]) + (c[:, 0] - b[:, 0]) * (py - c[:, 1])) / den
+    l2 = ((c[:, 1] - a[:, 1]) * (px - c[:, 0]) + (a[:, 0] - c[:, 0]) * (py - c[:, 1])) / den
+    out[row, col] = np.column_stack([l1, l2, 1.0 - l1 - l2])
+    return out
+
+
 def overlapping_texels(tri, size):
     """Number of texels covered by more than one triangle."""
     count, _ = rasterise(tri, size)

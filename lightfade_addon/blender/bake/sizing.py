@@ -2,7 +2,9 @@
 
 An object of world-space surface ``A`` (m²) whose UV islands cover a share ``a`` of the
 0-1 square gets an ``N × N`` map with ``N = d √(A / a)`` for a density of ``d`` texels
-per metre, rounded up to a multiple of 8 and capped.  Cycles' bake time grows with
+per metre, rounded up to a multiple of 8 and capped.  A ``LightFadeUV`` map (made, or to
+be made) is sized with ``a =`` :data:`PACK_FILL` whatever its layout, so the estimate
+before the map exists, the bake that makes it and every re-bake give the same size.  Cycles' bake time grows with
 texels × samples (per-call overhead is small); a tiny calibration bake on the scene
 measures the rate.
 """
@@ -15,13 +17,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .uvmaps import evaluated_mesh, triangle_uvs
+from .common import UV_MAP_NAME
+from .uvmaps import evaluated_mesh, plan_uv, triangle_uvs
 
 MIN_SIZE = 16
-#: Share of the 0-1 square Smart UV Project typically fills (for a map not made yet).
-UNWRAP_FILL = 0.6
-#: Denoising cost, seconds per million texels on 2 cores (4.3 s of CPU per 1024² map, docs/bake.md).
-DENOISE_SECONDS_PER_MTEXEL = 2.2
+#: Share of the 0-1 square a ``LightFadeUV`` map is sized for: the packing of
+#: :func:`.uvmaps.make_unique_uv` fills 0.56-0.60 on real meshes (a sofa, a curtain).
+PACK_FILL = 0.55
+#: Denoising cost, seconds per million texels on 2 cores: OIDN (4.3 s of CPU per 1024² map)
+#: and the 3D filter (2.6 s of CPU, its neighbour search on both cores); docs/bake.md.
+DENOISE_SECONDS_PER_MTEXEL = 3.5
 
 
 def _areas(tri3, tri_uv):
@@ -34,7 +39,7 @@ def _areas(tri3, tri_uv):
 def surface_and_uv_area(obj, depsgraph, uv_name):
     """World-space area (m²) of ``obj`` as rendered, and its UV area in ``uv_name`` (0-1 units).
 
-    Without ``uv_name`` the UV area is :data:`UNWRAP_FILL`.
+    Without ``uv_name`` the UV area is :data:`PACK_FILL`.
     """
     with evaluated_mesh(obj, depsgraph) as mesh:
         mesh.calc_loop_triangles()
@@ -49,7 +54,7 @@ def surface_and_uv_area(obj, depsgraph, uv_name):
         if uv_name and uv_name in mesh.uv_layers:
             world, uv = _areas(tri3, triangle_uvs(mesh, uv_name)[0])
         else:
-            world, uv = _areas(tri3, np.zeros((n, 3, 2)))[0], UNWRAP_FILL
+            world, uv = _areas(tri3, np.zeros((n, 3, 2)))[0], PACK_FILL
     return world, uv
 
 
@@ -61,6 +66,33 @@ def density_size(world_area, uv_area, texels_per_metre, max_size):
     n = int(math.ceil(n / 8.0) * 8)
     cap = max(MIN_SIZE, int(max_size) // 8 * 8)
     return int(min(max(n, MIN_SIZE), cap))
+
+
+def planned_map(obj, depsgraph, settings, diagnose=True):
+    """The size and UV map ``obj`` will be baked with: ``(width, UvPlan)``, or
+    ``(width, problem line)``.
+
+    The bake, its estimate and the panel all call this.  A ``LightFadeUV`` map, made or
+    to be made, is sized from the object's area alone (:data:`PACK_FILL`): a
+    re-bake keeps the map and its size, and the estimate gives the size the bake makes.
+    ``diagnose``: as :func:`.uvmaps.plan_uv` (False in a panel's draw).
+    """
+    layers = obj.data.uv_layers
+    made = obj.lightfade.uv_created and UV_MAP_NAME in layers
+    own = UV_MAP_NAME if made else (layers.active.name if layers.active else None)
+    size = _size(obj, depsgraph, settings, None if own == UV_MAP_NAME else own)
+    plan = plan_uv(obj, depsgraph, size, diagnose)
+    if isinstance(plan, str) or plan.uv_name == own:
+        return size, plan
+    return _size(obj, depsgraph, settings, None), plan
+
+
+def _size(obj, depsgraph, settings, uv_name):
+    """Map width of ``obj`` baked on ``uv_name`` (None: a ``LightFadeUV`` map)."""
+    if settings.resolution:
+        return int(settings.resolution)
+    world, uv = surface_and_uv_area(obj, depsgraph, uv_name)
+    return density_size(world, uv, settings.texels_per_metre, settings.max_size)
 
 
 @dataclass

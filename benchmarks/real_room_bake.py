@@ -1,0 +1,226 @@
+"""Exposure on real meshes: the default bake against a many-sample bake, at points on the
+surface, in a furnished room of public glTF assets.
+
+Usage (from the repository root; the assets are not part of the repository)::
+
+    python benchmarks/real_room_bake.py ASSET_DIR [--density 128] [--max-size 512]
+        [--samples 64] [--reference 256] [--sky-width 256] [--radius 0.06]
+
+The room is ``tools/real_room.py``'s (south window, annual clear-sky daylight at 52° N).
+Its sofa and curtain are baked, in this order and on the same UV maps (the first bake
+makes them), with
+
+* the default quality (Final preset),
+* ``--samples`` samples per texel (Custom quality, denoised),
+* ``--reference`` samples per texel (Custom quality, denoised): the reference,
+
+all at the same texel density.  Points: one per polygon, the centroid of its first
+triangle, read from each map (bilinear) at its UV.  A point is *lit* where the reference
+gets at least 5 % of the object's 99th-percentile lux.  Printed per object and bake:
+
+* ``p95 point``: the 95th percentile over lit points of ``|bake - ref| / ref``;
+* ``p95 3D``: the same after each point is averaged with the points within ``--radius``
+  metres of it in 3D whose normals face the same way (dot > 0.5), in both bakes: what
+  is left is blotches, not grain;
+* the share of the map inside its UV islands;
+* wall and CPU seconds of each bake (all objects), and their ratio to the default's;
+* the panel's estimate of the default bake (map sizes, seconds after Calibrate) against
+  the sizes and time the bake made.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import bpy  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def timed(fn):
+    wall, cpu = time.perf_counter(), time.process_time()
+    out = fn()
+    return out, time.perf_counter() - wall, time.process_time() - cpu
+
+
+def surface_points(obj, uv_name):
+    """World centroid, normal and UV of the first triangle of each polygon."""
+    mesh = obj.data
+    mesh.calc_loop_triangles()
+    n = len(mesh.loop_triangles)
+    poly = np.empty(n, np.int64)
+    mesh.loop_triangles.foreach_get("polygon_index", poly)
+    first = np.unique(poly, return_index=True)[1]
+    loops = np.empty(n * 3, np.int64)
+    mesh.loop_triangles.foreach_get("loops", loops)
+    verts = np.empty(n * 3, np.int64)
+    mesh.loop_triangles.foreach_get("vertices", verts)
+    co = np.empty(len(mesh.vertices) * 3)
+    mesh.vertices.foreach_get("co", co)
+    m = np.array(obj.matrix_world)
+    co = co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+    uv = np.empty(len(mesh.loops) * 2)
+    mesh.uv_layers[uv_name].data.foreach_get("uv", uv)
+    tri = co[verts].reshape(n, 3, 3)[first]
+    tri_uv = uv.reshape(-1, 2)[loops].reshape(n, 3, 2)[first]
+    normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-12)
+    return tri.mean(axis=1), normal, tri_uv.mean(axis=1)
+
+
+def read_map(image, uv):
+    """Lux of ``image`` at UV points (bilinear; texel centres at (i + 0.5) / N)."""
+    from scipy.ndimage import map_coordinates
+
+    w, h = image.size
+    px = np.empty(w * h * 4, np.float32)
+    image.pixels.foreach_get(px)
+    lux = px.reshape(h, w, 4)[..., 0].astype(np.float64)
+    return map_coordinates(lux, [uv[:, 1] * h - 0.5, uv[:, 0] * w - 0.5], order=1, mode="nearest")
+
+
+def smooth(values, centre, normal, radius):
+    """Mean of ``values`` over the points within ``radius`` (m) facing the same way."""
+    from scipy.spatial import cKDTree
+
+    tree = cKDTree(centre)
+    out = np.empty_like(values)
+    for i, near in enumerate(tree.query_ball_point(centre, radius)):
+        near = np.asarray(near)
+        near = near[normal[near] @ normal[i] > 0.5]
+        out[i] = values[near].mean()
+    return out
+
+
+def fill(obj, uv_name, size):
+    from lightfade_addon.blender.bake import raster
+    from lightfade_addon.blender.bake.uvmaps import triangle_uvs
+
+    tri, _ = triangle_uvs(obj.data, uv_name)
+    count, _ = raster.rasterise(tri, size)
+    return np.count_nonzero(count) / size ** 2
+
+
+def save_png(image, path):
+    """Write a lux map as an 8-bit PNG, scaled to its 99th percentile (for a look)."""
+    w, h = image.size
+    px = np.empty(w * h * 4, np.float32)
+    image.pixels.foreach_get(px)
+    lux = px.reshape(h, w, 4)[..., 0]
+    top = max(float(np.percentile(lux[lux > 0], 99)) if (lux > 0).any() else 1.0, 1e-9)
+    out = bpy.data.images.new("LF_look", w, h)
+    grey = np.clip(lux / top, 0, 1) ** (1 / 2.2)
+    out.pixels.foreach_set(np.dstack([grey, grey, grey, np.ones_like(grey)]).ravel())
+    out.filepath_raw = str(path)
+    out.file_format = "PNG"
+    out.save()
+    bpy.data.images.remove(out)
+
+
+def bake(scene, objects, quality, samples, save=None):
+    from lightfade_addon.blender.bake import BakeSettings, bake_exposure
+
+    scene.lightfade_bake.quality = quality
+    scene.lightfade.bake_samples = samples
+    settings = BakeSettings.from_scene(scene)
+    result, wall, cpu = timed(lambda: bake_exposure(scene, objects, settings,
+                                                    report=lambda m: None,
+                                                    progress=lambda f, m: None))
+    maps = {name: next(iter(m.values())) for name, m in result["maps"].items()}
+    values = {}
+    for obj in objects:
+        image = maps[obj.name]
+        if save:
+            Path(save).mkdir(parents=True, exist_ok=True)
+            save_png(image, Path(save) / f"{obj.name}_{quality.lower()}_{samples}.png")
+        centre, normal, uv = surface_points(obj, obj.lightfade.uv_map)
+        values[obj.name] = (read_map(image, uv), centre, normal, image.size[0])
+    return values, wall, cpu
+
+
+def planned_estimate(scene, objects):
+    """The panel's estimate of the default bake (after Calibrate): sizes and seconds."""
+    from lightfade_addon.blender.bake import BakeSettings, ExposureBake, calibrate
+
+    calibrate(scene, objects[0])
+    scene.lightfade_bake.quality = "FINAL"
+    job = ExposureBake(scene, objects, BakeSettings.from_scene(scene),
+                       report=lambda m: None).plan()
+    return dict(job.sizes), job.estimate()
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("assets", help="directory of glTF models (see tools/real_room.py)")
+    parser.add_argument("--density", type=float, default=128.0, help="texels per metre")
+    parser.add_argument("--max-size", type=int, default=512)
+    parser.add_argument("--samples", type=int, default=64)
+    parser.add_argument("--reference", type=int, default=256)
+    parser.add_argument("--sky-width", type=int, default=256)
+    parser.add_argument("--radius", type=float, default=0.06, help="3D neighbourhood, m")
+    parser.add_argument("--save-maps", help="write each map as a PNG into this directory")
+    parser.add_argument("--reference-cache",
+                        help="an .npz of the reference's values at the points: read if it "
+                             "exists (no reference bake), else written")
+    args = parser.parse_args()
+
+    from tools import real_room
+
+    roles = real_room.build(args.assets)
+    scene = bpy.context.scene
+    scene.lightfade_bake.texels_per_metre = args.density
+    scene.lightfade.bake_resolution = args.max_size
+    scene.lightfade_daylight.sky_width = args.sky_width
+    objects = [bpy.data.objects[roles[r][0]] for r in ("sofa", "curtain") if r in roles]
+    if not objects:
+        raise SystemExit(f"no sofa or curtain model in {args.assets}")
+    cache = Path(args.reference_cache) if args.reference_cache else None
+    runs = [("default (Final)", "FINAL", 8)]
+    if args.samples:
+        runs.append((f"{args.samples} samples", "CUSTOM", args.samples))
+    if cache is None or not cache.exists():
+        runs.append((f"{args.reference} samples", "CUSTOM", args.reference))
+    estimate = planned_estimate(scene, objects)
+    results = [(label, *bake(scene, objects, q, s, args.save_maps)) for label, q, s in runs]
+    if cache is not None and cache.exists():
+        stored = np.load(cache)
+        ref = {name: (stored[name], *results[0][1][name][1:]) for name in results[0][1]}
+        results.append((f"{args.reference} samples (cached)", ref, float("nan"), float("nan")))
+    else:
+        ref = results[-1][1]
+        if cache is not None:
+            np.savez(cache, **{name: v[0] for name, v in ref.items()})
+    print(f"\nReal room ({args.assets}): {len(objects)} objects, {args.density:g} texels/m, "
+          f"max {args.max_size}², daylight 52° N; points: polygon centres, lit >= 5 % of p99; "
+          f"3D radius {args.radius} m")
+    for obj in objects:
+        r_val, centre, normal, size = ref[obj.name]
+        lit = r_val >= 0.05 * np.percentile(r_val, 99)
+        r_smooth = smooth(r_val, centre, normal, args.radius)
+        print(f"\n{obj.name}: {size}² map on \"{obj.lightfade.uv_map}\" "
+              f"({fill(obj, obj.lightfade.uv_map, size):.0%} of it in islands), "
+              f"{lit.sum()} lit points of {len(r_val)}, reference median {np.median(r_val[lit]):,.0f} lx")
+        print(f"{'bake':<18} {'p95 point':>10} {'p95 3D':>8} {'median':>8}")
+        for label, values, _, _ in results[:-1]:
+            v = values[obj.name][0]
+            point = np.abs(v - r_val)[lit] / r_val[lit]
+            v_smooth = smooth(v, centre, normal, args.radius)
+            near = np.abs(v_smooth - r_smooth)[lit] / r_smooth[lit]
+            print(f"{label:<18} {np.percentile(point, 95):>10.1%} {np.percentile(near, 95):>8.1%} "
+                  f"{np.median(point):>8.1%}")
+    wall0, cpu0 = results[0][2], results[0][3]
+    print(f"\n{'bake':<18} {'wall s':>8} {'CPU s':>8} {'CPU ÷ default':>14}")
+    for label, _, wall, cpu in results:
+        print(f"{label:<18} {wall:>8.1f} {cpu:>8.1f} {cpu / cpu0:>14.2f}")
+    sizes, est = estimate
+    made = {name: v[3] for name, v in results[0][1].items()}
+    print(f"estimate before the bake: sizes {sizes}, {est.text()}; the default bake made "
+          f"{made} in {wall0:.1f} s")
+
+
+if __name__ == "__main__":
+    main()
