@@ -19,12 +19,13 @@ import time
 import bpy
 import numpy as np
 
-from . import agingdata, runtime
+from . import agingdata, parts, runtime
 from .copies import APPLIED_NAME, GROUP_NODE, TREE_TAG, copies_of, walk
 from .errors import AgingError, check_years
 from .exposure import exposure_shape, exposure_uv
 from .grids import purge
 from .nodes.aging import new_group
+from .part_properties import parts_digest
 from .pixels import write_rgba
 from .years import get_years, write_years
 from ..core.colorimetry import srgb_encode
@@ -53,6 +54,8 @@ def needs_age(scene, copy):
     """Why a stale copy needs the Age button (a new Cycles albedo bake), or ''."""
     props = copy.lightfade
     obj = props.aged_object
+    if props.source is not None and props.parts_key != parts_digest(props.source.lightfade):
+        return "the material's parts changed since Age: press Age"
     if props.path == "BAKED" and props.albedo is not None and obj is not None:
         shape = exposure_shape(obj)
         if shape != tuple(props.albedo.size)[::-1] or exposure_uv(obj) != props.uv_map:
@@ -82,9 +85,10 @@ def _extension(copy):
     return "EXTEND"
 
 
-def build_group(copy):
-    """A new aging node group for the copy's current images."""
-    group = new_group(GROUP_PREFIX + copy.name, agingdata.group_spec(copy, _extension(copy)))
+def build_group(copy, lane=None):
+    """A new aging node group for the copy's current images (or one lane's, :mod:`.parts`)."""
+    name = GROUP_PREFIX + copy.name + ("" if lane is None else f"~{lane.name}")
+    group = new_group(name, agingdata.group_spec(copy, _extension(copy), lane))
     group[TREE_TAG] = True
     return group
 
@@ -99,6 +103,14 @@ def refresh(scene, copy, max_years=None):
     if max_years is not None:
         props.max_years = max_years
     obj = props.aged_object
+    if len(props.lanes):                             # several recipes by mask
+        parts.prepare_lanes(scene, copy, exposure_shape(obj) or (64, 64))
+        props.signature = runtime.signature(scene, copy)
+        parts.wire(copy, parts.colour_socket(copy), [build_group(copy, lane)
+                                                    for lane in props.lanes])
+        if props.aged_image is not None:
+            apply_copy(copy, get_years(scene))
+        return
     runtime.prepare(scene, copy, exposure_shape(obj) or (64, 64))
     props.signature = runtime.signature(scene, copy)
     group = build_group(copy)
@@ -138,13 +150,15 @@ def update_scene(scene, years=None, report=print):
         else:
             refreshed = True
     if refreshed:
-        purge(scene, {c.lightfade.grid_key for c in copies_of()})
+        purge(scene, parts.grids_in_use())
     write_years(scene, years)
     return time.perf_counter() - t0
 
 
 def aged_pixels(copy, years):
     """(H, W, 4) float32 linear aged colour of ``copy`` (the numpy evaluator)."""
+    if len(copy.lightfade.lanes):
+        return parts.aged_pixels(copy, years)
     table, texels, positions, original = runtime.evaluator(copy)
     H, W = agingdata.key_shape(copy)
     rgba = original.reshape(H * W, 4).copy()          # zero years: the original itself
@@ -156,7 +170,7 @@ def aged_pixels(copy, years):
 def apply_copy(copy, years):
     """Write ``copy``'s aged pixels at ``years`` into its applied image and wire it."""
     props = copy.lightfade
-    H, W = agingdata.key_shape(copy)
+    H, W = parts.key_shape(copy) if len(props.lanes) else agingdata.key_shape(copy)
     image = props.aged_image
     if image is None or tuple(image.size) != (W, H):
         if image is not None:

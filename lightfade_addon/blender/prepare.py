@@ -5,8 +5,9 @@ The order is the promise made to the user: every check that can refuse runs firs
 then each object gets its own aged copies (:mod:`.copies`), the Base Color of the
 copies on the baked path is evaluated by Cycles (:mod:`.albedo`, one bake per object),
 the aging data are prepared (:mod:`.runtime`) and each copy gets its aging node group
-(:mod:`.nodes.aging`) between its own Base Color graph and its BSDF; the scene's years
-drive them all (:mod:`.years`).
+(:mod:`.nodes.aging`) between its own Base Color graph and its BSDF — a material with
+parts gets one preparation and group per recipe in use, mixed by the masks
+(:mod:`.parts`); the scene's years drive them all (:mod:`.years`).
 If anything fails on the way, the copies made so far are removed again.
 """
 
@@ -14,7 +15,7 @@ from __future__ import annotations
 
 import bpy
 
-from . import runtime
+from . import parts, runtime
 from .albedo import albedo_image, bake_albedos
 from .apply import build_group
 from .copies import assign, copies_of, insert_group, make_copy
@@ -95,14 +96,22 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
             def step(f, msg, k=k, name=props.source.name):
                 say((len(made) + k + f) / (2 * len(made)), f"{name}: {msg}")
 
-            runtime.prepare(scene, copy, exposure_shape(props.aged_object), step)
+            shape = exposure_shape(props.aged_object)
+            if parts.has_parts(props.source):        # one preparation per recipe in use
+                parts.make_lanes(copy)
+                parts.prepare_lanes(scene, copy, shape, step)
+                props.signature = runtime.signature(scene, copy)
+                parts.wire(copy, plan.colour, [build_group(copy, lane) for lane in props.lanes])
+                parts.bake_weights(scene, _view_layer(scene), copy, plan.colour)
+                continue
+            runtime.prepare(scene, copy, shape, step)
             props.signature = runtime.signature(scene, copy)
             insert_group(copy, plan.colour, build_group(copy), props.restored_image)
     except BaseException:
         for copy, _plan in made:
             remove_aged(copy)
         raise
-    purge(scene, {c.lightfade.grid_key for c in copies_of()})
+    purge(scene, parts.grids_in_use())
     lock_interface(scene)
     write_years(scene, years)
     return [copy for copy, _plan in made]

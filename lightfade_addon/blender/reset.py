@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import bpy
 
-from . import agingdata, runtime
+from . import agingdata, parts, runtime
 from .albedo import ALBEDO_PREFIX
 from .copies import copies_of, remove_copy
 from .daylight.view import clear_view
@@ -22,6 +22,7 @@ def remove_aged(copy):
     """Remove one aged copy: slots restored, its images (if nothing else uses them) gone."""
     runtime.forget(copy)
     agingdata.remove(copy)
+    parts.remove(copy)
     props = copy.lightfade
     images = [props.aged_image]
     if props.albedo is not None and props.albedo.name.startswith(ALBEDO_PREFIX):
@@ -47,7 +48,7 @@ def reset_scene(scene, exposure=False):
     clear_view(scene)                            # dose views show what Reset removes
     if exposure:
         remove_exposure(scene, [o for o in scene.objects if o.type == "MESH"])
-    purge(scene, {c.lightfade.grid_key for c in copies_of()})
+    purge(scene, parts.grids_in_use())
     props = scene.lightfade
     if props.lock_interface_before >= 0:
         scene.render.use_lock_interface = bool(props.lock_interface_before)

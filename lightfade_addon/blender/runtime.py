@@ -24,6 +24,7 @@ from . import agingdata
 from .errors import AgingError
 from .exposure import exposure_signature, lights_and_exposure
 from .grids import SceneGridStore
+from .part_properties import parts_digest
 from .pixels import read_linear, read_rgba, resample
 from .vocabulary import RECIPE_IDS, SPECTRUM_IDS
 
@@ -44,7 +45,8 @@ def prepared_range(years):
 
 
 #: Numpy evaluators rebuilt from a copy's images, keyed by the copy's ``session_uid``
-#: and checked against the images they were read from.
+#: and lane name ('' for the copy's own images) and checked against the images they
+#: were read from.
 _EVALUATORS = {}
 
 
@@ -54,16 +56,21 @@ def clear():
 
 
 def forget(copy):
-    _EVALUATORS.pop(copy.session_uid, None)
+    for key in [k for k in _EVALUATORS if k[0] == copy.session_uid]:
+        del _EVALUATORS[key]
 
 
-def material_recipe(material):
-    """The core recipe for a material's LightFade settings."""
-    props = material.lightfade
+def settings_recipe(props):
+    """The core recipe for recipe settings (a material's, a part's or a lane's)."""
     recipe = get_recipe(RECIPE_IDS[props.recipe])
     if props.sensitivity_mode == "BETA":
         return recipe.with_beta(props.beta * 1e-6)
     return recipe.with_blue_wool(props.blue_wool)
+
+
+def material_recipe(material):
+    """The core recipe for a material's LightFade settings."""
+    return settings_recipe(material.lightfade)
 
 
 def material_prior(material):
@@ -98,6 +105,8 @@ def signature(scene, copy):
              repr(s.beta), repr(material_prior(source)), props.path, props.uv_map,
              albedo.name if albedo is not None else repr(tuple(props.flat_colour)),
              str(tuple(albedo.size)) if albedo is not None else ""]
+    if len(s.parts):                                  # several recipes by mask (.parts)
+        parts.append(parts_digest(s))
     return hashlib.sha1("|".join(parts).encode()).hexdigest()
 
 
@@ -118,12 +127,14 @@ def albedo_rgba(copy, shape):
     return rgba
 
 
-def prepare(scene, copy, shape, progress=None):
+def prepare(scene, copy, shape, progress=None, lane=None):
     """Build (or load) the aging of ``copy`` and write its images and node group data.
 
     ``shape`` is the exposure maps' (H, W) (the flat path's texture size).  The grid
     comes from the file's store, else the disk cache, else it is simulated, and is
-    stored in the file under the key recorded in ``copy.lightfade.grid_key``.
+    stored in the file under the key recorded in ``copy.lightfade.grid_key``.  With
+    ``lane`` (one recipe of a material with parts, :mod:`.parts`) that lane's recipe
+    is prepared and its images and grid key are kept in the lane.
     Returns the :class:`~lightfade_addon.core.aging.TextureAger`.
     """
     props = copy.lightfade
@@ -133,7 +144,7 @@ def prepare(scene, copy, shape, progress=None):
     rgba = albedo_rgba(copy, shape)
     lights, at_bake = lights_and_exposure(scene, obj, shape)     # read once, at the bake's size
     exposure = np.stack([resample(m, rgba.shape[:2]) for m in at_bake])
-    recipe = material_recipe(props.source)
+    recipe = material_recipe(props.source) if lane is None else settings_recipe(lane)
     prior = material_prior(props.source)
     # the node group reads the rates at the bake's resolution: the grid must reach their max
     max_rate = float(sum(e.max() * light.annual_dose for e, light in zip(at_bake, lights)))
@@ -145,23 +156,26 @@ def prepare(scene, copy, shape, progress=None):
                                                  TABLE_ENTRIES[0]), TABLE_ENTRIES[1]))
     except ValueError as err:
         raise AgingError(f"Material '{props.source.name}' on '{obj.name}': {err}") from None
-    props.grid_key = ager.grid.key
-    props.lost_texels = 0 if ager.lost is None else int(np.count_nonzero(ager.lost))
-    agingdata.write(copy, ager, lights, at_bake, restored=prior is not None)
+    data = props if lane is None else lane
+    data.grid_key = ager.grid.key
+    data.lost_texels = 0 if ager.lost is None else int(np.count_nonzero(ager.lost))
+    agingdata.write(copy, ager, lights, at_bake, restored=prior is not None, lane=lane)
     forget(copy)
     return ager
 
 
-def evaluator(copy):
-    """(table, texels, positions, original RGBA) of ``copy`` for :func:`..core.table.evaluate`,
-    read from the copy's images (cached while they are unchanged)."""
-    key = agingdata.fingerprint(copy)
-    cached = _EVALUATORS.get(copy.session_uid)
+def evaluator(copy, lane=None):
+    """(table, texels, positions, original RGBA) of ``copy`` (or of its ``lane``) for
+    :func:`..core.table.evaluate`, read from the images (cached while they are unchanged)."""
+    key = agingdata.fingerprint(copy, lane)
+    slot = (copy.session_uid, "" if lane is None else lane.name)
+    cached = _EVALUATORS.get(slot)
     if cached is not None and cached[0] == key:
         return cached[1]
-    original = albedo_rgba(copy, agingdata.key_shape(copy))
-    if copy.lightfade.restored_image is not None:
-        original = read_rgba(copy.lightfade.restored_image)
-    data = agingdata.read(copy, original)
-    _EVALUATORS[copy.session_uid] = (key, data)
+    original = albedo_rgba(copy, agingdata.key_shape(copy, lane))
+    restored = (copy.lightfade if lane is None else lane).restored_image
+    if restored is not None:
+        original = read_rgba(restored)
+    data = agingdata.read(copy, original, lane)
+    _EVALUATORS[slot] = (key, data)
     return data

@@ -1,0 +1,428 @@
+"""Several recipes in one material, by mask: each part ages as its own recipe would.
+
+The artist lists parts in ``Material.lightfade.parts`` (:mod:`.part_properties`): a
+recipe (or *Does Not Age*) and a mask each, plus what the rest of the material does.
+An aged copy with parts then evaluates the aging **once per recipe in use** (a *lane*:
+parts with the same recipe and sensitivity share one) and mixes the results by the
+masks. Per shading point, with ``m_p`` each part's mask clamped to [0, 1] (values
+within 1/1024 of 0 or 1 taken as 0 or 1: filtering never leaks a trace) and
+``S = Σ m_p``:
+
+    w_p = m_p / max(S, 1)             (overlaps share; the weights never pass 1)
+    w_rest = 1 - S / max(S, 1)        (what no part claims)
+    W_k = Σ of w over the parts (and the rest) aging with lane k
+    out = C + Σ_k W_k · (A_k - C)
+
+``C`` is the artist's colour and ``A_k`` lane k's aging group's output. The weights of
+all parts and the rest sum to one; where every aging weight is 0 (a part that does not
+age) ``out`` is ``C`` exactly, at every years, and at 0 years every ``A_k`` is ``C``
+(the group passes the colour through), so the whole material is its original.
+
+**The seam.** :func:`wire` takes one aging node group per lane — any group with a
+Color input and a Color output that ages the colour with that lane's recipe — and
+builds the mix around them; it knows nothing of how a group evaluates the aging.
+Today each lane is prepared like a copy without parts (:func:`prepare_lanes`:
+:func:`.runtime.prepare` with the lane's recipe, its own data images) and its group is
+built by :func:`.apply.build_group`. The numpy twin (:func:`aged_pixels`) mixes each
+lane's numpy evaluation with the same weights, baked once by Cycles at Age
+(:func:`bake_weights`: any mask, image, attribute or node output, evaluated as the
+renderer does) at the keys' resolution.
+"""
+
+from __future__ import annotations
+
+import bpy
+import numpy as np
+
+from ..core.table import evaluate
+from . import agingdata, runtime
+from .albedo import bake_albedos
+from .copies import GROUP_NODE, TREE_TAG, copies_of, insert_group, walk
+from .errors import AgingError
+from .exposure import exposure_uv
+from .nodes.graph import Graph, Sock
+from .part_properties import KEEP, part_recipe_key, parts_digest
+from .pixels import read_rgba
+from .source import ColourSocket, find_colour_socket, image_problem, tree_at
+
+#: Prefix of the mixing group (one per copy with parts) and of the baked weights.
+MIX_PREFIX = "LF_Parts_"
+WEIGHTS_PREFIX = "LF_Weights_"
+#: The node a weights bake reads (a reroute fed by the mixing group's weights).
+WEIGHTS_NODE = "LightFade Part Weights"
+#: Mask values this close to 0 or 1 count as 0 or 1 (:func:`_snap`).
+SNAP = 2.0 ** -10
+#: Lanes per weights image (its R, G and B channels).
+PER_IMAGE = 3
+#: Socket types a node-output mask may have: one value, or a colour/vector with channels.
+_VALUE_SOCKETS = {"VALUE", "INT", "BOOLEAN"}
+_CHANNEL_SOCKETS = {"RGBA": "NodeSocketColor", "VECTOR": "NodeSocketVector"}
+
+
+# --------------------------------------------------------------------------- the data
+
+
+def has_parts(material):
+    return len(material.lightfade.parts) > 0
+
+
+def recipes_in_use(material):
+    """``[(key, settings)]``: each recipe that ages in ``material``, once (the rest's
+    first when it ages, then the parts' in order); ``settings`` carries ``recipe``,
+    ``sensitivity_mode``, ``blue_wool`` and ``beta``."""
+    props = material.lightfade
+    found = {}
+    if props.rest != KEEP:
+        found[part_recipe_key(props)] = props
+    for part in props.parts:
+        if part.recipe != KEEP:
+            found.setdefault(part_recipe_key(part), part)
+    return list(found.items())
+
+
+def lane_indices(material):
+    """``(per part: its lane index or None, the rest's lane index or None)``."""
+    keys = [key for key, _s in recipes_in_use(material)]
+    props = material.lightfade
+    parts = [keys.index(part_recipe_key(p)) if p.recipe != KEEP else None for p in props.parts]
+    rest = keys.index(part_recipe_key(props)) if props.rest != KEEP else None
+    return parts, rest
+
+
+def describe(material):
+    """One line per part for reports: ``[(name, recipe, mask)]``."""
+    rows = []
+    for part in material.lightfade.parts:
+        recipe = "does not age" if part.recipe == KEEP else part_recipe_key(part).lower()
+        source = {"IMAGE": f"image '{part.image.name if part.image else ''}'"
+                           + (f" (UV '{part.uv_map}')" if part.uv_map else ""),
+                  "ATTRIBUTE": f"attribute '{part.attribute}'",
+                  "SOCKET": f"node '{part.node}' output '{part.socket or '(first)'}'"}
+        rows.append((part.name, recipe, f"{source[part.mask]} {part.channel}"))
+    rest = material.lightfade.rest
+    rows.append(("(rest)", "does not age" if rest == KEEP
+                 else part_recipe_key(material.lightfade).lower(), "what no part claims"))
+    return rows
+
+
+# --------------------------------------------------------------------------- checks
+
+
+def _mask_output(tree, part):
+    """The output socket a node-output mask names, or None."""
+    node = tree.nodes.get(part.node)
+    if node is None:
+        return None
+    if not part.socket:
+        return next((s for s in node.outputs if s.enabled), None)
+    return next((s for s in node.outputs if s.name == part.socket and s.enabled), None)
+
+
+def _part_problem(obj, material, tree, part):
+    where = f"Material '{material.name}', part '{part.name}'"
+    if part.mask == "IMAGE":
+        if part.image is None:
+            return f"{where}: no mask image: pick one (Material Properties > LightFade > Parts)"
+        layers = [layer.name for layer in obj.data.uv_layers]
+        if part.uv_map and part.uv_map not in layers:
+            return (f"{where}: UV map '{part.uv_map}' is not on mesh '{obj.data.name}' (it has "
+                    f"{', '.join(layers) or 'none'}): pick one, or leave it empty")
+        return image_problem(material, part.image)
+    if part.mask == "ATTRIBUTE":
+        names = [a.name for a in obj.data.attributes if not a.name.startswith(".")]
+        if part.attribute not in names:
+            return (f"{where}: attribute '{part.attribute}' is not on mesh '{obj.data.name}' "
+                    f"(it has {', '.join(names)}): paint it or fix the name")
+        return None
+    node = tree.nodes.get(part.node)
+    if node is None:
+        return (f"{where}: no node named '{part.node}' in the node tree of its colour BSDF: "
+                "give the mask node that name (Node Editor > N > Node > Name)")
+    socket = _mask_output(tree, part)
+    if socket is None:
+        outputs = ", ".join(s.name for s in node.outputs if s.enabled)
+        return f"{where}: node '{part.node}' has no output '{part.socket}' (it has {outputs})"
+    if socket.type not in _VALUE_SOCKETS and socket.type not in _CHANNEL_SOCKETS:
+        return (f"{where}: output '{socket.name}' of node '{part.node}' is a "
+                f"{socket.type.lower()}: pick a colour or value output")
+    if part.channel == "A":
+        return (f"{where}: a node output has no alpha channel: pick channel R, G or B")
+    return None
+
+
+def part_problems(obj, material, colour):
+    """Every problem of ``material``'s parts on ``obj`` (one line each; [] without parts)."""
+    if not has_parts(material):
+        return []
+    problems = []
+    if not recipes_in_use(material):
+        problems.append(f"Material '{material.name}': no part ages (every part and the rest "
+                        "are 'Does Not Age'): give one a recipe, or untick Age this Material")
+    tree = tree_at(material.node_tree, colour.groups)
+    for part in material.lightfade.parts:
+        problem = _part_problem(obj, material, tree, part)
+        if problem and problem not in problems:
+            problems.append(problem)
+    return problems
+
+
+def grids_in_use():
+    """Keys of every grid an aged copy (or one of its lanes) uses."""
+    keys = set()
+    for copy in copies_of():
+        keys.add(copy.lightfade.grid_key)
+        keys.update(lane.grid_key for lane in copy.lightfade.lanes)
+    return keys
+
+
+# --------------------------------------------------------------------------- preparing
+
+
+def colour_socket(copy):
+    """The copy's :class:`.source.ColourSocket` (found again, as for its source)."""
+    colour, problem = find_colour_socket(copy)
+    if problem:
+        raise AgingError(problem)
+    return colour
+
+
+def key_shape(copy):
+    """(H, W) of the copy's keys (its lanes share the albedo's size)."""
+    return agingdata.key_shape(copy, copy.lightfade.lanes[0])
+
+
+def make_lanes(copy):
+    """One lane per recipe in use of the copy's source (its parts as they are now)."""
+    props = copy.lightfade
+    remove(copy)
+    for k, (_key, settings) in enumerate(recipes_in_use(props.source)):
+        lane = props.lanes.add()
+        lane.name = str(k)
+        lane.recipe = settings.recipe
+        lane.sensitivity_mode = settings.sensitivity_mode
+        lane.blue_wool = settings.blue_wool
+        lane.beta = settings.beta
+    props.parts_key = parts_digest(props.source.lightfade)
+
+
+def prepare_lanes(scene, copy, shape, progress=None):
+    """Prepare each lane of ``copy`` (:func:`.runtime.prepare` with the lane's recipe)."""
+    lanes = copy.lightfade.lanes
+    for k, lane in enumerate(lanes):
+        def step(f, msg, k=k, lane=lane):
+            if progress is not None:
+                progress((k + f) / len(lanes), f"{lane.recipe.lower()}: {msg}")
+        runtime.prepare(scene, copy, shape, step, lane=lane)
+
+
+def remove(copy):
+    """Remove the copy's lanes: their images, weights and aging groups."""
+    props = copy.lightfade
+    for lane in props.lanes:
+        agingdata.remove(copy, lane)
+    weights = {lane.weight_image for lane in props.lanes if lane.weight_image is not None}
+    for image in weights:
+        bpy.data.images.remove(image)
+    for tree in _lane_groups(copy):
+        bpy.data.node_groups.remove(tree)
+    props.lanes.clear()
+
+
+def _mix_node(copy):
+    node = next((n for _t, n in walk(copy.node_tree) if n.name == GROUP_NODE), None)
+    return node if node is not None and node.type == "GROUP" else None
+
+
+def _lane_groups(copy):
+    node = _mix_node(copy)
+    if node is None or node.node_tree is None or not node.node_tree.name.startswith(MIX_PREFIX):
+        return []
+    return [n.node_tree for n in node.node_tree.nodes
+            if n.type == "GROUP" and n.node_tree is not None and n.node_tree.get(TREE_TAG)]
+
+
+# --------------------------------------------------------------------------- the mix
+
+
+def _snap(m):
+    """``m`` in [0, 1], values within :data:`SNAP` of 0 or 1 made exactly 0 or 1: a
+    filtered mask of ones sums its texel weights to 0.99999994 at places."""
+    return ((m - SNAP) * (1.0 / (1.0 - 2.0 * SNAP))).clamp(0.0, 1.0)
+
+
+def _mask(g, part, index, gin):
+    """The part's mask as a Sock in [0, 1] (:func:`_snap`)."""
+    g.stage = f"mask {part.name}"
+    if part.mask == "IMAGE":
+        inputs = {}
+        if part.uv_map:
+            inputs["Vector"] = g.out(g.node("ShaderNodeUVMap", uv_map=part.uv_map), "UV")
+        node = g.node("ShaderNodeTexImage", inputs, image=part.image, interpolation="Linear")
+        colour, alpha = g.out(node, "Color"), g.out(node, "Alpha")
+    elif part.mask == "ATTRIBUTE":
+        node = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY",
+                      attribute_name=part.attribute)
+        colour, alpha = g.out(node, "Color"), g.out(node, "Alpha")
+    else:
+        value = Sock(g, gin.outputs[f"Mask {index}"], 0)
+        if gin.outputs[f"Mask {index}"].type == "VALUE":
+            return _snap(value)
+        colour, alpha = value, None
+    if part.channel == "A":
+        return _snap(alpha)
+    return _snap(g.separate(colour)["RGB".index(part.channel)])
+
+
+def _lane_input(g, lane, uv_map, colour):
+    """What lane k ages: the texture restored to new (a history), else the colour."""
+    if lane.restored_image is None:
+        return colour
+    uv = g.out(g.node("ShaderNodeUVMap", uv_map=uv_map), "UV")
+    image, _a = g.image(lane.restored_image, uv, "Linear", "EXTEND")
+    return image
+
+
+def _interface(tree, copy, socket_types):
+    tree.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
+    for index, kind in socket_types.items():
+        tree.interface.new_socket(f"Mask {index}", in_out="INPUT", socket_type=kind)
+    tree.interface.new_socket("Color", in_out="OUTPUT", socket_type="NodeSocketColor")
+    for j in range(0, len(copy.lightfade.lanes), PER_IMAGE):
+        tree.interface.new_socket(f"Weights {j // PER_IMAGE}", in_out="OUTPUT",
+                                  socket_type="NodeSocketVector")
+
+
+def _mix_group(copy, groups, socket_types):
+    """The mixing group: masks, weights, one node per lane group, the mix (see above)."""
+    source = copy.lightfade.source
+    tree = bpy.data.node_groups.new(MIX_PREFIX + copy.name, "ShaderNodeTree")
+    tree[TREE_TAG] = True
+    _interface(tree, copy, socket_types)
+    g = Graph(tree)
+    g.stage = "io"
+    gin = g.node("NodeGroupInput", depth=0)
+    colour = Sock(g, gin.outputs[0], 0)
+    part_lane, rest_lane = lane_indices(source)
+    masks = [_mask(g, part, i, gin) for i, part in enumerate(source.lightfade.parts)]
+    g.stage = "weights"
+    total = masks[0]
+    for m in masks[1:]:
+        total = total + m
+    scale = 1.0 / total.max(1.0)
+    lanes = copy.lightfade.lanes
+    weights = [None] * len(lanes)
+    for m, k in zip(masks, part_lane):
+        if k is not None:
+            w = m * scale
+            weights[k] = w if weights[k] is None else weights[k] + w
+    if rest_lane is not None:
+        w = 1.0 - total * scale
+        weights[rest_lane] = w if weights[rest_lane] is None else weights[rest_lane] + w
+    g.stage = "lanes"
+    out = colour
+    for k, (lane, group) in enumerate(zip(lanes, groups)):
+        node = g.node("ShaderNodeGroup", (_lane_input(g, lane, copy.lightfade.uv_map, colour),),
+                      node_tree=group)
+        node.label = f"{lane.recipe.title()} ({lane.name})"
+        aged = g.out(node, 0)
+        change = g.vector("SUBTRACT", aged, colour)
+        out = g.vector("ADD", out, g.vector("SCALE", change, None, None, weights[k]))
+    g.stage = "io"
+    zero = 0.0
+    packed = [g.combine(*(weights[j + i] if j + i < len(lanes) else zero for i in range(3)))
+              for j in range(0, len(lanes), PER_IMAGE)]
+    gout = g.node("NodeGroupOutput", (out, *packed))
+    gout.is_active_output = True
+    return tree
+
+
+def wire(copy, colour, groups):
+    """Age ``copy``'s colour by its parts; ``groups``: one aging node group per lane
+    (``copy.lightfade.lanes`` order), each Color in → Color out.
+
+    The mixing group goes between the artist's Base Color graph and the BSDF as the node
+    ``GROUP_NODE`` (so Apply to Images, Live Aging and Reset treat it as any aging
+    group); node-output masks are linked into it. Idempotent: a second call replaces
+    the mix and the lane groups it held.
+    """
+    source = copy.lightfade.source
+    tree = tree_at(copy.node_tree, colour.groups)
+    outputs, kinds = {}, {}
+    for i, part in enumerate(source.lightfade.parts):
+        if part.mask == "SOCKET":
+            socket = _mask_output(tree, part)
+            outputs[i] = socket
+            kinds[i] = "NodeSocketFloat" if socket.type in _VALUE_SOCKETS \
+                else _CHANNEL_SOCKETS[socket.type]
+    old = _lane_groups(copy)
+    node = insert_group(copy, colour, _mix_group(copy, groups, kinds))
+    for tree_ in old:
+        if tree_ not in groups:
+            bpy.data.node_groups.remove(tree_)
+    for group in groups:
+        group[TREE_TAG] = True
+    for i, socket in outputs.items():
+        tree.links.new(socket, node.inputs[f"Mask {i}"])
+    return node
+
+
+# --------------------------------------------------------------------------- the twin
+
+
+def bake_weights(scene, view_layer, copy, colour):
+    """Bake the lanes' weights (Cycles, the copy's own mask nodes) at the keys' size."""
+    props = copy.lightfade
+    obj = props.aged_object
+    H, W = key_shape(copy)
+    tree = tree_at(copy.node_tree, colour.groups)
+    node = tree.nodes[GROUP_NODE]
+    for j in range(0, len(props.lanes), PER_IMAGE):
+        name = f"{WEIGHTS_PREFIX}{copy.name}~{j // PER_IMAGE}"
+        old = bpy.data.images.get(name)
+        if old is not None:
+            bpy.data.images.remove(old)
+        image = bpy.data.images.new(name, W, H, alpha=True, float_buffer=True)
+        image.colorspace_settings.name = "Non-Color"
+        reroute = tree.nodes.new("NodeReroute")
+        reroute.name = WEIGHTS_NODE
+        try:
+            tree.links.new(node.outputs[f"Weights {j // PER_IMAGE}"], reroute.inputs[0])
+            target = ColourSocket(colour.groups, reroute.name, reroute.inputs[0].name)
+            bake_albedos(scene, view_layer, obj, [(copy, target, image)], exposure_uv(obj),
+                         scene.lightfade.bake_margin)
+        except BaseException:
+            bpy.data.images.remove(image)
+            raise
+        finally:
+            tree.nodes.remove(reroute)
+        for lane in list(props.lanes)[j:j + PER_IMAGE]:
+            lane.weight_image = image
+
+
+def mix_pixels(original, aged, weights):
+    """``original + Σ_k weights[k] · (aged[k] - original)`` on (N, 3) colours (the
+    shader's mix, in the same order); ``weights`` (K, N)."""
+    out = original.copy()
+    for a, w in zip(aged, weights):
+        out += w[:, None] * (a - original)
+    return out
+
+
+def aged_pixels(copy, years):
+    """(H, W, 4) float32 linear aged colour of a copy with parts (the numpy twin)."""
+    lanes = list(copy.lightfade.lanes)
+    if not lanes or any(lane.weight_image is None for lane in lanes):
+        raise AgingError(f"Aged material '{copy.name}' lost its part weights: press Age")
+    H, W = key_shape(copy)
+    rgba = runtime.albedo_rgba(copy, (H, W)).reshape(H * W, 4).copy()
+    aged, weights = [], []
+    for k, lane in enumerate(lanes):
+        table, texels, positions, original = runtime.evaluator(copy, lane)
+        a = original.reshape(H * W, 4).copy()
+        if years > 0:
+            evaluate(table, texels, years, positions, out=a)
+        aged.append(a[:, :3])
+        w = read_rgba(lane.weight_image)[..., k % PER_IMAGE]
+        weights.append(np.clip(w, 0.0, 1.0).reshape(-1).astype(np.float32))
+    rgba[:, :3] = mix_pixels(rgba[:, :3], aged, weights)
+    return rgba.reshape(H, W, 4)

@@ -1,0 +1,308 @@
+"""Several recipes in one material, by mask (issue 25.2): each part ages as its own recipe
+alone would, a part that does not age keeps its pixels at every years, image, attribute
+and node-output masks, bad parts refused in one line, Reset keeps what the user made."""
+
+import bmesh
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, \
+    linear_srgb_to_XYZ  # noqa: E402
+
+N = 16
+#: Key texels well inside the left half (u < 0.5) and the right; Cycles' bake samples
+#: the outer ring of texels off their centres.
+LEFT = np.s_[1:-1, 1: N // 2 - 1]
+RIGHT = np.s_[1:-1, N // 2 + 1: -1]
+
+
+def lab(rgb):
+    return XYZ_to_Lab(linear_srgb_to_XYZ(np.asarray(rgb, float).reshape(-1, 3)))
+
+
+def node_evaluation(copy):
+    """(H, W, 3) the copy's Base Color as Cycles evaluates it at the key texels' centres
+    (an Emission bake in the exposure UV map; as in test_material_aging)."""
+    from lightfade_addon.blender.albedo import bake_albedos
+    from lightfade_addon.blender.parts import colour_socket, key_shape
+
+    H, W = key_shape(copy)
+    image = bpy.data.images.new("NodeEvaluation", W, H, alpha=True, float_buffer=True)
+    image.colorspace_settings.name = "Linear Rec.709"
+    out = bake_albedos(bpy.context.scene, bpy.context.view_layer, copy.lightfade.aged_object,
+                       [(copy, colour_socket(copy), image)], copy.lightfade.uv_map, margin=0)
+    bpy.data.images.remove(image)
+    return out[copy.name]
+
+
+def _camera_and_render_settings(scene):
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(cam)
+    cam.location = (0.0, 0.0, 3.0)
+    scene.camera = cam
+    scene.render.engine = "CYCLES"
+    scene.cycles.device = "CPU"
+    scene.cycles.samples = 4
+    scene.cycles.use_denoising = False
+    scene.cycles.seed = 7
+    scene.render.resolution_x = scene.render.resolution_y = 48
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.image_settings.color_depth = "32"
+
+
+def _albedo(material):
+    """A 16² albedo of greys, browns and a red (a float image), Closest as the tests of
+    the node group use, so the bake at texel centres reads the texels themselves."""
+    image = bpy.data.images.new("Sofa", N, N, alpha=True, float_buffer=True)
+    image.colorspace_settings.name = "Linear Rec.709"
+    y, x = np.mgrid[0:N, 0:N] / N
+    px = np.ones((N, N, 4), np.float32)
+    px[..., 0] = 0.25 + 0.5 * x
+    px[..., 1] = 0.2 + 0.3 * y
+    px[..., 2] = 0.1 + 0.2 * x * y
+    image.pixels.foreach_set(px.ravel())
+    image.pack()
+    node = next(n for n in material.node_tree.nodes if n.type == "TEX_IMAGE")
+    node.image = image
+    node.interpolation = "Closest"
+    return px
+
+
+def _half_mask(name="FrameMask"):
+    """White on the left half of the texture (u < 0.5), black on the right."""
+    image = bpy.data.images.new(name, N, N)
+    px = np.zeros((N, N, 4), np.float32)
+    px[:, : N // 2, :3] = 1.0
+    px[..., 3] = 1.0
+    image.pixels.foreach_set(px.ravel())
+    image.pack()
+    return image
+
+
+@pytest.fixture
+def sofa(floor_scene):
+    """The floor scene, its material a 'Dyed Fabric' sofa texture, lit by a strong sun;
+    the box moved off the floor's left half."""
+    material = floor_scene["material"]
+    px = _albedo(material)
+    material.lightfade.recipe = "DYED_FABRIC"
+    floor_scene["sun"].data.energy = 30.0
+    floor_scene["albedo_px"] = px
+    return floor_scene
+
+
+def _copy(material):
+    from lightfade_addon.blender.copies import copies_of
+
+    (copy,) = copies_of(material)
+    return copy
+
+
+def _age(years=20.0):
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    if not bpy.context.scene.objects["Floor"].lightfade.exposure_maps:
+        api.bake(scene)
+    return api.age_scene(scene, years=years)
+
+
+def _twin(material, years):
+    from lightfade_addon.blender.apply import aged_pixels
+
+    return aged_pixels(_copy(material), years)[..., :3]
+
+
+def _alone(material, recipe, years):
+    """The twin's aged pixels of the material aged with ``recipe`` and no parts."""
+    from lightfade_addon import api
+
+    saved = [(p.name, p.recipe, p.image) for p in material.lightfade.parts]
+    api.reset(bpy.context.scene)
+    material.lightfade.parts.clear()
+    material.lightfade.recipe = recipe
+    _age(years)
+    out = _twin(material, years).copy()
+    api.reset(bpy.context.scene)
+    for name, part_recipe, image in saved:
+        part = material.lightfade.parts.add()
+        part.name, part.recipe, part.image = name, part_recipe, image
+    material.lightfade.recipe = "DYED_FABRIC"
+    return out
+
+
+def test_two_recipes_by_a_mask_image_age_each_region_as_its_recipe_alone(sofa):
+    from lightfade_addon import api
+
+    material = sofa["material"]
+    api.set_parts(material, [dict(name="Frame", recipe="BARE_WOOD", image=_half_mask())])
+    wood = _alone(material, "BARE_WOOD", 20.0)
+    fabric = _alone(material, "DYED_FABRIC", 20.0)
+    assert delta_E_2000(lab(wood[LEFT]), lab(fabric[LEFT])).mean() > 1.0   # they differ
+    _age(20.0)
+    twin = _twin(material, 20.0)
+    np.testing.assert_allclose(twin[LEFT], wood[LEFT], atol=2e-6)
+    np.testing.assert_allclose(twin[RIGHT], fabric[RIGHT], atol=2e-6)
+    nodes = node_evaluation(_copy(material))                  # the material, by Cycles
+    dE = delta_E_2000(lab(nodes[1:-1, 1:-1]), lab(twin[1:-1, 1:-1]))
+    assert np.percentile(dE, 99) <= 0.2 and dE.max() <= 0.5
+
+
+def _render(scene, folder, name):
+    scene.render.filepath = str(folder / name)
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(scene.render.filepath)
+    w, h = image.size
+    a = np.empty(w * h * 4, np.float32)
+    image.pixels.foreach_get(a)
+    bpy.data.images.remove(image)
+    return a.reshape(h, w, 4)[..., :3]
+
+
+def test_a_part_that_does_not_age_keeps_its_pixels_at_0_and_30_years(sofa, tmp_path):
+    from lightfade_addon import api
+
+    material = sofa["material"]
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    scene.cycles.max_bounces = 0      # light the aged half bounces off the box stays out
+    before = _render(scene, tmp_path, "before.exr")
+    api.set_parts(material, [dict(name="Glass", recipe="KEEP", image=_half_mask())])
+    _age(0.0)
+    frames = {}
+    for years in (0.0, 30.0):
+        api.set_years(scene, years)
+        frames[years] = _render(scene, tmp_path, f"{years}.exr")
+    # render columns over the floor's left half, past its edge (where a Repeat mask meets
+    # its own right border)
+    left = np.s_[:, 4:20]
+    assert np.array_equal(frames[0.0], before)                  # all of it, at 0 years
+    assert np.array_equal(frames[30.0][left], before[left])     # the glass, at 30 years
+    lit = before[:, 30:].sum(-1) > 0.05
+    assert np.median(delta_E_2000(lab(frames[30.0][:, 30:][lit]), lab(before[:, 30:][lit]))) > 2
+    twin = _twin(material, 30.0)
+    assert np.array_equal(twin[LEFT], sofa["albedo_px"][LEFT][..., :3])
+    assert np.array_equal(node_evaluation(_copy(material))[LEFT], sofa["albedo_px"][LEFT][..., :3])
+
+
+def _split_floor(floor):
+    """Cut the floor into 2 x 2 faces (UVs follow), for masks on faces."""
+    bm = bmesh.new()
+    bm.from_mesh(floor.data)
+    bmesh.ops.subdivide_edges(bm, edges=bm.edges[:], cuts=1, use_grid_fill=True)
+    bm.to_mesh(floor.data)
+    bm.free()
+
+
+def _keep_left(material, years=30.0):
+    """After Age with a 'Does Not Age' part on the left: left texels exact, right aged."""
+    _age(years)
+    twin = _twin(material, years)
+    albedo = np.asarray(material.node_tree.nodes["Image Texture"].image.pixels[:],
+                        np.float32).reshape(N, N, 4)[..., :3]
+    np.testing.assert_array_equal(twin[LEFT], albedo[LEFT])
+    assert delta_E_2000(lab(twin[RIGHT]), lab(albedo[RIGHT])).mean() > 2
+    nodes = node_evaluation(_copy(material))
+    np.testing.assert_allclose(nodes[1:-1, 1:-1], twin[1:-1, 1:-1], atol=0.02)
+    np.testing.assert_array_equal(nodes[LEFT], albedo[LEFT])
+
+
+def test_an_attribute_mask(sofa):
+    from lightfade_addon import api
+
+    floor = sofa["floor"]
+    _split_floor(floor)
+    attribute = floor.data.attributes.new("glass", "FLOAT", "FACE")
+    centres = np.array([p.center.x for p in floor.data.polygons])
+    attribute.data.foreach_set("value", (centres < 0).astype(np.float32))
+    api.set_parts(sofa["material"], [dict(name="Glass", recipe="KEEP", attribute="glass")])
+    _keep_left(sofa["material"])
+
+
+def test_a_node_output_mask(sofa):
+    """The artist's own node 'Glass Mask' (1 where u < 0.5) picked by name."""
+    from lightfade_addon import api
+
+    tree = sofa["material"].node_tree
+    coords = tree.nodes.new("ShaderNodeTexCoord")
+    xyz = tree.nodes.new("ShaderNodeSeparateXYZ")
+    less = tree.nodes.new("ShaderNodeMath")
+    less.name = "Glass Mask"
+    less.operation = "LESS_THAN"
+    less.inputs[1].default_value = 0.5
+    tree.links.new(coords.outputs["UV"], xyz.inputs[0])
+    tree.links.new(xyz.outputs["X"], less.inputs[0])
+    api.set_parts(sofa["material"], [dict(name="Glass", recipe="KEEP", node="Glass Mask",
+                                          socket="Value")])
+    _keep_left(sofa["material"])
+
+
+@pytest.mark.parametrize("part, says", [
+    (dict(name="Frame", recipe="BARE_WOOD", image=None),
+     "Material 'Carpet', part 'Frame': no mask image: pick one"),
+    (dict(name="Frame", recipe="BARE_WOOD", attribute="wood"),
+     "Material 'Carpet', part 'Frame': attribute 'wood' is not on mesh 'Plane'"),
+    (dict(name="Frame", recipe="BARE_WOOD", node="Wood Mask"),
+     "Material 'Carpet', part 'Frame': no node named 'Wood Mask'"),
+    (dict(name="Frame", recipe="BARE_WOOD", node="Principled BSDF", socket="Fac"),
+     "Material 'Carpet', part 'Frame': node 'Principled BSDF' has no output 'Fac'"),
+    (dict(name="Frame", recipe="BARE_WOOD", node="Principled BSDF", socket="BSDF"),
+     "Material 'Carpet', part 'Frame': output 'BSDF' of node 'Principled BSDF' is a shader: "
+     "pick a colour or value output"),
+])
+def test_bad_parts_are_refused_in_one_line_and_nothing_changes(sofa, part, says):
+    from lightfade_addon import api
+
+    material = sofa["material"]
+    api.bake(bpy.context.scene)
+    api.set_parts(material, [part])
+    nodes = len(material.node_tree.nodes)
+    with pytest.raises(api.AgingError) as err:
+        api.age_scene(bpy.context.scene, years=5)
+    assert str(err.value).startswith(says) and "\n" not in str(err.value)
+    assert len(material.node_tree.nodes) == nodes
+    assert not [m for m in bpy.data.materials if m.name.startswith("LF_")]
+    assert any(says in p for row in api.material_plan(bpy.context.scene) for p in row["problems"])
+
+
+def test_set_parts_refuses_bad_values_before_changing_anything(sofa):
+    from lightfade_addon import api
+
+    material = sofa["material"]
+    api.set_parts(material, [dict(name="Frame", recipe="BARE_WOOD", attribute="wood")])
+    for bad, says in (([dict(name="X", recipe="STONE", attribute="a")], "recipe 'STONE'"),
+                      ([dict(name="X", recipe="KEEP")], "one mask"),
+                      ([dict(name="X", recipe="KEEP", attribute="a", colour=1)], "'colour'")):
+        with pytest.raises(ValueError, match=says):
+            api.set_parts(material, bad)
+        assert [p.attribute for p in material.lightfade.parts] == ["wood"]
+    with pytest.raises(ValueError, match="rest"):
+        api.set_parts(material, [], rest="NEVER")
+
+
+def test_reset_keeps_what_the_user_made_and_a_changed_part_needs_age(sofa):
+    from lightfade_addon import api
+
+    material = sofa["material"]
+    mask = _half_mask()
+    api.set_parts(material, [dict(name="Frame", recipe="BARE_WOOD", image=mask,
+                                  blue_wool=5)], rest="KEEP")
+    nodes = sorted(n.name for n in material.node_tree.nodes)
+    _age(10.0)
+    copy = _copy(material)
+    assert [lane.recipe for lane in copy.lightfade.lanes] == ["BARE_WOOD"]
+    material.lightfade.parts[0].blue_wool = 6
+    assert api.material_plan(bpy.context.scene)[0]["status"] == \
+        "stale: the material's parts changed since Age: press Age"
+    api.reset(bpy.context.scene)
+    assert sorted(n.name for n in material.node_tree.nodes) == nodes
+    part = material.lightfade.parts[0]
+    assert (part.name, part.recipe, part.image, part.blue_wool) == ("Frame", "BARE_WOOD",
+                                                                   mask, 6)
+    assert material.lightfade.rest == "KEEP"
+    left = [d.name for d in (*bpy.data.images, *bpy.data.node_groups, *bpy.data.materials)
+            if d.name.startswith("LF_") and not d.name.startswith("LF_Exposure")]
+    assert left == []
+    assert "lightfade_grids" not in bpy.context.scene
