@@ -40,7 +40,7 @@ from .albedo import bake_albedos
 from .copies import GROUP_NODE, TREE_TAG, copies_of, insert_group, walk
 from .errors import AgingError
 from .exposure import exposure_uv
-from .nodes.graph import Graph, Sock
+from .nodes.mix import PER_IMAGE, mix_group
 from .part_properties import KEEP, part_recipe_key, parts_digest
 from .pixels import read_rgba
 from .source import ColourSocket, find_colour_socket, image_problem, tree_at
@@ -50,10 +50,6 @@ MIX_PREFIX = "LF_Parts_"
 WEIGHTS_PREFIX = "LF_Weights_"
 #: The node a weights bake reads (a reroute fed by the mixing group's weights).
 WEIGHTS_NODE = "LightFade Part Weights"
-#: Mask values this close to 0 or 1 count as 0 or 1 (:func:`_snap`).
-SNAP = 2.0 ** -10
-#: Lanes per weights image (its R, G and B channels).
-PER_IMAGE = 3
 #: Socket types a node-output mask may have: one value, or a colour/vector with channels.
 _VALUE_SOCKETS = {"VALUE", "INT", "BOOLEAN"}
 _CHANNEL_SOCKETS = {"RGBA": "NodeSocketColor", "VECTOR": "NodeSocketVector"}
@@ -244,98 +240,6 @@ def _lane_groups(copy):
 # --------------------------------------------------------------------------- the mix
 
 
-def _snap(m):
-    """``m`` in [0, 1], values within :data:`SNAP` of 0 or 1 made exactly 0 or 1: a
-    filtered mask of ones sums its texel weights to 0.99999994 at places."""
-    return ((m - SNAP) * (1.0 / (1.0 - 2.0 * SNAP))).clamp(0.0, 1.0)
-
-
-def _mask(g, part, index, gin):
-    """The part's mask as a Sock in [0, 1] (:func:`_snap`)."""
-    g.stage = f"mask {part.name}"
-    if part.mask == "IMAGE":
-        inputs = {}
-        if part.uv_map:
-            inputs["Vector"] = g.out(g.node("ShaderNodeUVMap", uv_map=part.uv_map), "UV")
-        node = g.node("ShaderNodeTexImage", inputs, image=part.image, interpolation="Linear")
-        colour, alpha = g.out(node, "Color"), g.out(node, "Alpha")
-    elif part.mask == "ATTRIBUTE":
-        node = g.node("ShaderNodeAttribute", attribute_type="GEOMETRY",
-                      attribute_name=part.attribute)
-        colour, alpha = g.out(node, "Color"), g.out(node, "Alpha")
-    else:
-        value = Sock(g, gin.outputs[f"Mask {index}"], 0)
-        if gin.outputs[f"Mask {index}"].type == "VALUE":
-            return _snap(value)
-        colour, alpha = value, None
-    if part.channel == "A":
-        return _snap(alpha)
-    return _snap(g.separate(colour)["RGB".index(part.channel)])
-
-
-def _lane_input(g, lane, uv_map, colour):
-    """What lane k ages: the texture restored to new (a history), else the colour."""
-    if lane.restored_image is None:
-        return colour
-    uv = g.out(g.node("ShaderNodeUVMap", uv_map=uv_map), "UV")
-    image, _a = g.image(lane.restored_image, uv, "Linear", "EXTEND")
-    return image
-
-
-def _interface(tree, copy, socket_types):
-    tree.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
-    for index, kind in socket_types.items():
-        tree.interface.new_socket(f"Mask {index}", in_out="INPUT", socket_type=kind)
-    tree.interface.new_socket("Color", in_out="OUTPUT", socket_type="NodeSocketColor")
-    for j in range(0, len(copy.lightfade.lanes), PER_IMAGE):
-        tree.interface.new_socket(f"Weights {j // PER_IMAGE}", in_out="OUTPUT",
-                                  socket_type="NodeSocketVector")
-
-
-def _mix_group(copy, groups, socket_types):
-    """The mixing group: masks, weights, one node per lane group, the mix (see above)."""
-    source = copy.lightfade.source
-    tree = bpy.data.node_groups.new(MIX_PREFIX + copy.name, "ShaderNodeTree")
-    tree[TREE_TAG] = True
-    _interface(tree, copy, socket_types)
-    g = Graph(tree)
-    g.stage = "io"
-    gin = g.node("NodeGroupInput", depth=0)
-    colour = Sock(g, gin.outputs[0], 0)
-    part_lane, rest_lane = lane_indices(source)
-    masks = [_mask(g, part, i, gin) for i, part in enumerate(source.lightfade.parts)]
-    g.stage = "weights"
-    total = masks[0]
-    for m in masks[1:]:
-        total = total + m
-    scale = 1.0 / total.max(1.0)
-    lanes = copy.lightfade.lanes
-    weights = [None] * len(lanes)
-    for m, k in zip(masks, part_lane):
-        if k is not None:
-            w = m * scale
-            weights[k] = w if weights[k] is None else weights[k] + w
-    if rest_lane is not None:
-        w = 1.0 - total * scale
-        weights[rest_lane] = w if weights[rest_lane] is None else weights[rest_lane] + w
-    g.stage = "lanes"
-    out = colour
-    for k, (lane, group) in enumerate(zip(lanes, groups)):
-        node = g.node("ShaderNodeGroup", (_lane_input(g, lane, copy.lightfade.uv_map, colour),),
-                      node_tree=group)
-        node.label = f"{lane.recipe.title()} ({lane.name})"
-        aged = g.out(node, 0)
-        change = g.vector("SUBTRACT", aged, colour)
-        out = g.vector("ADD", out, g.vector("SCALE", change, None, None, weights[k]))
-    g.stage = "io"
-    zero = 0.0
-    packed = [g.combine(*(weights[j + i] if j + i < len(lanes) else zero for i in range(3)))
-              for j in range(0, len(lanes), PER_IMAGE)]
-    gout = g.node("NodeGroupOutput", (out, *packed))
-    gout.is_active_output = True
-    return tree
-
-
 def wire(copy, colour, groups):
     """Age ``copy``'s colour by its parts; ``groups``: one aging node group per lane
     (``copy.lightfade.lanes`` order), each Color in → Color out.
@@ -355,7 +259,10 @@ def wire(copy, colour, groups):
             kinds[i] = "NodeSocketFloat" if socket.type in _VALUE_SOCKETS \
                 else _CHANNEL_SOCKETS[socket.type]
     old = _lane_groups(copy)
-    node = insert_group(copy, colour, _mix_group(copy, groups, kinds))
+    part_lane, rest_lane = lane_indices(source)
+    mix = mix_group(MIX_PREFIX + copy.name, list(source.lightfade.parts), part_lane, rest_lane,
+                    list(copy.lightfade.lanes), groups, copy.lightfade.uv_map, kinds)
+    node = insert_group(copy, colour, mix)
     for tree_ in old:
         if tree_ not in groups:
             bpy.data.node_groups.remove(tree_)
