@@ -107,15 +107,23 @@ class LIGHTFADE_PG_lane(PropertyGroup):
     """On an aged copy: one recipe in use and its preparation (written by Age)."""
 
     recipe: StringProperty(name="Recipe", description="Recipe identifier of this preparation")
-    sensitivity_mode: StringProperty(name="Sensitivity")
-    blue_wool: IntProperty(name="Blue Wool Class", default=3)
-    beta: FloatProperty(name="β (×10⁻⁶)", default=23.0)
-    key_image: PointerProperty(name="Key Image", type=bpy.types.Image)
-    rate_image: PointerProperty(name="Dose Rate Image", type=bpy.types.Image)
-    table_image: PointerProperty(name="Aging Table Image", type=bpy.types.Image)
-    restored_image: PointerProperty(name="Restored Image", type=bpy.types.Image)
-    grid_key: StringProperty(name="Grid")
-    lost_texels: IntProperty(name="Lost Texels", default=0, min=0)
+    sensitivity_mode: StringProperty(name="Sensitivity", description="BLUE_WOOL or BETA")
+    blue_wool: IntProperty(name="Blue Wool Class", default=3,
+                           description="Blue Wool class of this preparation")
+    beta: FloatProperty(name="β (×10⁻⁶)", default=23.0,
+                        description="Sensitivity β of this preparation, in millionths")
+    key_image: PointerProperty(name="Key Image", type=bpy.types.Image,
+                               description="Each texel's colour key (this recipe's table)")
+    rate_image: PointerProperty(name="Dose Rate Image", type=bpy.types.Image,
+                                description="Annual dose per light spectrum")
+    table_image: PointerProperty(name="Aging Table Image", type=bpy.types.Image,
+                                 description="This recipe's aging table")
+    restored_image: PointerProperty(name="Restored Image", type=bpy.types.Image,
+                                    description="The texture restored to new with this recipe "
+                                    "(a material with a history)")
+    grid_key: StringProperty(name="Grid", description="Key of this recipe's grid in the file")
+    lost_texels: IntProperty(name="Lost Texels", default=0, min=0,
+                             description="Texels whose colour when new cannot be recovered")
     weight_image: PointerProperty(name="Weights", type=bpy.types.Image,
                                   description="This recipe's weight per texel (channel: the "
                                   "lane's index mod 3), baked for Apply to Images")
@@ -200,4 +208,4 @@ def set_parts(material, parts, rest=None):
     return props.parts
 
 
-CLASSES = (LIGHTFADE_PG_part, LIGHTFADE_PG_lane)
+

@@ -191,7 +191,8 @@ class LIGHTFADE_PG_material(PropertyGroup):
     parts: CollectionProperty(type=LIGHTFADE_PG_part, name="Parts",
                               description="Parts of the texture that age with their own recipe "
                               "(or do not age), each given by a mask")
-    part_index: IntProperty(name="Active Part", default=0, min=0, options={"HIDDEN"})
+    part_index: IntProperty(name="Active Part", default=0, min=0, options={"HIDDEN"},
+                            description="The part shown below the list")
     rest: EnumProperty(name="Rest", items=REST_ITEMS, default="RECIPE",
                        description="What happens to everything no part claims")
     lanes: CollectionProperty(type=LIGHTFADE_PG_lane, name="Recipes in Use",

@@ -306,3 +306,72 @@ def test_reset_keeps_what_the_user_made_and_a_changed_part_needs_age(sofa):
             if d.name.startswith("LF_") and not d.name.startswith("LF_Exposure")]
     assert left == []
     assert "lightfade_grids" not in bpy.context.scene
+
+
+class _Layout:
+    """A recording layout (panels cannot draw in background mode): checks each property
+    and operator it is given exists."""
+
+    def __init__(self, calls):
+        self.calls, self.use_property_split, self.active = calls, False, True
+
+    def _child(self, *args, **kwargs):
+        return _Layout(self.calls)
+
+    row = column = box = _child
+
+    def prop(self, data, name, **kwargs):
+        assert name in data.bl_rna.properties, f"{data!r} has no property {name!r}"
+        self.calls.append(("prop", name))
+
+    def operator(self, idname, **kwargs):
+        module, name = idname.split(".")
+        assert hasattr(getattr(bpy.ops, module), name), idname
+        self.calls.append(("operator", idname))
+
+    def label(self, text="", **kwargs):
+        self.calls.append(("label", text))
+
+    def template_list(self, list_type, list_id, data, name, active_data, active_name, **kw):
+        assert hasattr(bpy.types, list_type) and name in data.bl_rna.properties
+        assert active_name in active_data.bl_rna.properties
+        self.calls.append(("list", name))
+
+    def template_ID(self, data, name, **kwargs):
+        assert name in data.bl_rna.properties
+        self.calls.append(("prop", name))
+
+
+def test_the_parts_panel_shows_each_choice_and_what_stops_age(sofa):
+    from types import SimpleNamespace
+
+    from lightfade_addon.blender.part_panel import MATERIAL_PT_lightfade_parts
+
+    material = sofa["material"]
+    context = SimpleNamespace(scene=bpy.context.scene, object=sofa["floor"], material=material)
+
+    def draw():
+        calls = []
+        MATERIAL_PT_lightfade_parts.draw(SimpleNamespace(layout=_Layout(calls)), context)
+        return calls
+
+    assert ("label", "No parts: the whole material ages with the recipe above") in draw()
+    with bpy.context.temp_override(material=material):
+        assert bpy.ops.lightfade.part_add() == {"FINISHED"}
+    part = material.lightfade.parts[0]
+    seen = {}
+    for mask in ("IMAGE", "ATTRIBUTE", "SOCKET"):
+        for recipe in ("KEEP", "BARE_WOOD"):
+            part.mask, part.recipe = mask, recipe
+            seen[mask, recipe] = draw()
+    assert ("prop", "image") in seen["IMAGE", "KEEP"] and ("prop", "uv_map") in seen["IMAGE", "KEEP"]
+    assert ("prop", "attribute") in seen["ATTRIBUTE", "KEEP"]
+    assert ("prop", "node") in seen["SOCKET", "KEEP"]
+    assert ("prop", "blue_wool") in seen["SOCKET", "BARE_WOOD"]
+    assert ("label", "Its pixels stay exactly as they are, at every years") in seen["IMAGE", "KEEP"]
+    assert ("label", "Material 'Carpet', part 'Part 1': no node named '' in the node tree of "
+            "its colour BSDF: give the mask node that name (Node Editor > N > Node > Name)") \
+        in seen["SOCKET", "BARE_WOOD"]
+    with bpy.context.temp_override(material=material):
+        assert bpy.ops.lightfade.part_remove() == {"FINISHED"}
+    assert len(material.lightfade.parts) == 0
