@@ -85,19 +85,26 @@ def lane_indices(material):
     return parts, rest
 
 
+def _said(settings):
+    """``bare-wood, Blue Wool 2`` (as ``info`` says a material's recipe)."""
+    sensitivity = (f"beta {settings.beta:g}e-6" if settings.sensitivity_mode == "BETA"
+                   else f"Blue Wool {settings.blue_wool}")
+    return f"{settings.recipe.lower().replace('_', '-')}, {sensitivity}"
+
+
 def describe(material):
-    """One line per part for reports: ``[(name, recipe, mask)]``."""
+    """``[(name, recipe, mask)]`` of each part and the rest, for reports."""
     rows = []
     for part in material.lightfade.parts:
-        recipe = "does not age" if part.recipe == KEEP else part_recipe_key(part).lower()
         source = {"IMAGE": f"image '{part.image.name if part.image else ''}'"
                            + (f" (UV '{part.uv_map}')" if part.uv_map else ""),
                   "ATTRIBUTE": f"attribute '{part.attribute}'",
                   "SOCKET": f"node '{part.node}' output '{part.socket or '(first)'}'"}
-        rows.append((part.name, recipe, f"{source[part.mask]} {part.channel}"))
-    rest = material.lightfade.rest
-    rows.append(("(rest)", "does not age" if rest == KEEP
-                 else part_recipe_key(material.lightfade).lower(), "what no part claims"))
+        rows.append((part.name, "does not age" if part.recipe == KEEP else _said(part),
+                     f"{source[part.mask]}, channel {part.channel}"))
+    props = material.lightfade
+    rows.append(("(rest)", "does not age" if props.rest == KEEP else _said(props),
+                 "what no part claims"))
     return rows
 
 

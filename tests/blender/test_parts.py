@@ -375,3 +375,42 @@ def test_the_parts_panel_shows_each_choice_and_what_stops_age(sofa):
     with bpy.context.temp_override(material=material):
         assert bpy.ops.lightfade.part_remove() == {"FINISHED"}
     assert len(material.lightfade.parts) == 0
+
+
+def test_info_apply_and_a_rebake_with_parts(sofa):
+    """info lists the parts; Apply to Images writes the twin's pixels; after a re-bake
+    (the sun moved) the next set_years prepares every recipe again, as for any copy."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.apply import aged_pixels
+    from lightfade_addon.pipeline.info import as_text, gather
+
+    material = sofa["material"]
+    api.set_parts(material, [dict(name="Frame", recipe="BARE_WOOD", image=_half_mask()),
+                             dict(name="Glass", recipe="KEEP", attribute="glass")])
+    floor = sofa["floor"]
+    floor.data.attributes.new("glass", "FLOAT", "POINT")         # zero everywhere
+    scene = bpy.context.scene
+    _age(20.0)
+    report = gather(scene)
+    (entry,) = report["would_age"]
+    assert [p["name"] for p in entry["parts"]] == ["Frame", "Glass", "(rest)"]
+    assert entry["parts"][0]["recipe"] == "bare-wood, Blue Wool 2"
+    text = as_text({**report, "file": "sofa.blend"})
+    assert "part Glass: does not age - attribute 'glass', channel R" in text
+    images = api.apply_aging(scene)
+    copy = _copy(material)
+    applied = np.empty(N * N * 4, np.float32)
+    images[copy.name].pixels.foreach_get(applied)
+    np.testing.assert_allclose(applied.reshape(N, N, 4), aged_pixels(copy, 20.0), atol=1e-6)
+    api.live_aging(scene)
+    before = aged_pixels(copy, 20.0).copy()
+    sofa["sun"].rotation_euler[0] = 1.2                           # lower sun: less light
+    api.bake(scene)
+    assert api.material_plan(scene)[0]["status"].startswith("stale: exposure")
+    api.set_years(scene, 20.0)
+    assert api.material_plan(scene)[0]["status"] == "aged"
+    after = aged_pixels(copy, 20.0)
+    assert not np.allclose(after[RIGHT], before[RIGHT], atol=1e-3)
+    groups = sorted(g.name.split(".0")[0] for g in bpy.data.node_groups)  # the old ones gone
+    assert groups == ["LF_Aging_LF_Aged_Carpet.Floor~0", "LF_Aging_LF_Aged_Carpet.Floor~1",
+                      "LF_Parts_LF_Aged_Carpet.Floor"]
