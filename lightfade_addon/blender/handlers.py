@@ -21,6 +21,7 @@ from . import runtime
 from .agingdata import PREFIXES
 from .albedo import ALBEDO_PREFIX
 from .apply import APPLIED_PREFIX
+from .parts import WEIGHTS_PREFIX
 from .years import linear_keys
 
 
@@ -34,7 +35,8 @@ def on_save(_dummy=None, _more=None):
     # Pack only what changed: packing an unchanged, already packed image again
     # drops its data in Blender 5.0 (seen with float images).
     for image in bpy.data.images:
-        if (image.name.startswith((*PREFIXES, ALBEDO_PREFIX, APPLIED_PREFIX)) and image.has_data
+        if (image.name.startswith((*PREFIXES, ALBEDO_PREFIX, APPLIED_PREFIX, WEIGHTS_PREFIX))
+                and image.has_data
                 and (image.packed_file is None or image.is_dirty)):
             image.pack()
     for scene in bpy.data.scenes:

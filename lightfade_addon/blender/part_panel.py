@@ -57,6 +57,10 @@ class MATERIAL_PT_lightfade_parts(bpy.types.Panel):
     bl_parent_id = "MATERIAL_PT_lightfade"
     bl_options = {"DEFAULT_CLOSED"}
 
+    @classmethod
+    def poll(cls, context):
+        return getattr(context, "material", None) is not None
+
     def draw(self, context):
         layout = self.layout
         material = original(context.material)

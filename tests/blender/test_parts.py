@@ -414,3 +414,79 @@ def test_info_apply_and_a_rebake_with_parts(sofa):
     groups = sorted(g.name.split(".0")[0] for g in bpy.data.node_groups)  # the old ones gone
     assert groups == ["LF_Aging_LF_Aged_Carpet.Floor~0", "LF_Aging_LF_Aged_Carpet.Floor~1",
                       "LF_Parts_LF_Aged_Carpet.Floor"]
+
+
+def test_a_bsdf_inside_a_node_group_on_the_baked_path(sofa):
+    """The colour BSDF inside a node group (the baked path): the mix goes into the copy's
+    private group; a 'Does Not Age' attribute part keeps its texels at 30 years."""
+    from lightfade_addon import api
+
+    material = sofa["material"]
+    tree = material.node_tree
+    group = bpy.data.node_groups.new("Wrapped", "ShaderNodeTree")
+    group.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
+    group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
+    gin, gout = group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
+    inner = group.nodes.new("ShaderNodeBsdfPrincipled")
+    group.links.new(gin.outputs["Color"], inner.inputs["Base Color"])
+    group.links.new(inner.outputs["BSDF"], gout.inputs["Shader"])
+    node = tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = group
+    tree.links.new(tree.nodes["Image Texture"].outputs["Color"], node.inputs["Color"])
+    tree.links.new(node.outputs["Shader"], tree.nodes["Material Output"].inputs["Surface"])
+    floor = sofa["floor"]
+    _split_floor(floor)
+    attribute = floor.data.attributes.new("glass", "FLOAT", "FACE")
+    centres = np.array([p.center.x for p in floor.data.polygons])
+    attribute.data.foreach_set("value", (centres < 0).astype(np.float32))
+    api.set_parts(material, [dict(name="Glass", recipe="KEEP", attribute="glass")])
+    _age(30.0)
+    assert api.material_plan(bpy.context.scene)[0]["path"] == "BAKED"
+    new, old = _twin(material, 0.0), _twin(material, 30.0)
+    w = new.shape[1]
+    left, right = np.s_[2:-2, 2: w // 2 - 2], np.s_[2:-2, w // 2 + 2: -2]
+    np.testing.assert_array_equal(old[left], new[left])
+    assert delta_E_2000(lab(old[right]), lab(new[right])).mean() > 2
+    assert group.nodes.get("LightFade Aging") is None        # the user's group untouched
+
+
+RENDER_THERE = """
+import os, sys, numpy as np, bpy
+bpy.context.preferences.filepaths.use_scripts_auto_execute = False
+bpy.ops.wm.open_mainfile(filepath={path!r}, load_ui=False)
+assert not hasattr(bpy.types.Scene, "lightfade"), "LightFade must not be installed here"
+scene = bpy.context.scene
+scene.render.filepath = {out!r}
+bpy.ops.render.render(write_still=True)
+sys.stdout.flush()
+os._exit(0)
+"""
+
+
+def test_a_saved_file_renders_its_parts_without_lightfade(sofa, tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    from lightfade_addon import api
+
+    material = sofa["material"]
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    api.set_parts(material, [dict(name="Frame", recipe="BARE_WOOD", image=_half_mask())])
+    _age(30.0)
+    here = _render(scene, tmp_path, "here.exr")
+    path = tmp_path / "parts.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    code = RENDER_THERE.format(path=str(path), out=str(tmp_path / "there.exr"))
+    proc = subprocess.run([sys.executable, "-c", code], cwd=str(tmp_path), env=env,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    image = bpy.data.images.load(str(tmp_path / "there.exr"))
+    w, h = image.size
+    there = np.empty(w * h * 4, np.float32)
+    image.pixels.foreach_get(there)
+    there = there.reshape(h, w, 4)[..., :3]
+    assert np.percentile(delta_E_2000(lab(here), lab(there)), 95) <= 1.0
+    assert np.abs(here - there).max() < 1e-3
