@@ -10,13 +10,19 @@ from .copies import copies_of
 from .targets import check, targets
 
 
+#: What brings a stale copy up to date.
+REFRESH = "press Age to update it (the Years slider shows it as it was)"
+
+
 def copy_status(scene, copy):
     """``"aged"``, or ``"stale: <why>"`` for an aged copy."""
     why = stale_reason(scene, copy)
     if not why:
         return "aged"
     blocked = needs_age(scene, copy)
-    return f"stale: {blocked}" if blocked else f"stale: {why}; updated on the next Age or years change"
+    # the slider writes one property and prepares nothing (that is what keeps it free):
+    # only Age (or api.set_years) brings a stale copy up to date, so that is what is said
+    return f"stale: {blocked}" if blocked else f"stale: {why}: {REFRESH}"
 
 
 def material_status(scene, objects=()):

@@ -1,0 +1,23 @@
+"""A stale aged material says what refreshes it, and that is what does (issue 27.5): the
+Years slider prepares nothing (it stays stale), Age brings it up to date."""
+
+import bpy
+
+
+def test_a_stale_material_says_press_age_and_age_is_what_refreshes_it(floor_scene):
+    from lightfade_addon import api
+    from lightfade_addon.blender.status import REFRESH
+
+    scene = bpy.context.scene
+    floor_scene["sun"].data.energy = 30.0
+    api.bake(scene)
+    api.age_scene(scene, years=10)
+    floor_scene["box"].location.x -= 0.8                     # the shadow moves
+    api.bake(scene)
+    status = api.material_plan(scene)[0]["status"]
+    assert status == f"stale: exposure, schedule or recipe changed since Age: {REFRESH}"
+    assert "press Age" in status and "years change" not in status
+    scene.lightfade.years = 20.0                               # the slider
+    assert api.material_plan(scene)[0]["status"] == status     # still stale: as it said
+    assert bpy.ops.lightfade.age(years=-1) == {"FINISHED"}
+    assert api.material_plan(scene)[0]["status"] == "aged"
