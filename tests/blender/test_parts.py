@@ -490,3 +490,16 @@ def test_a_saved_file_renders_its_parts_without_lightfade(sofa, tmp_path):
     there = there.reshape(h, w, 4)[..., :3]
     assert np.percentile(delta_E_2000(lab(here), lab(there)), 95) <= 1.0
     assert np.abs(here - there).max() < 1e-3
+
+
+def test_a_mask_image_whose_file_is_missing_is_named(sofa, tmp_path):
+    from lightfade_addon import api
+
+    mask = bpy.data.images.new("LostMask", 4, 4)
+    mask.source = "FILE"
+    mask.filepath = str(tmp_path / "lost_mask.png")
+    api.set_parts(sofa["material"], [dict(name="Frame", recipe="BARE_WOOD", image=mask)])
+    api.bake(bpy.context.scene)
+    with pytest.raises(api.AgingError, match="Image 'LostMask' of material 'Carpet' has no "
+                       "pixels: the file is missing"):
+        api.age_scene(bpy.context.scene, years=5)
