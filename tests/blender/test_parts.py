@@ -400,7 +400,11 @@ def test_info_apply_and_a_rebake_with_parts(sofa):
     assert entry["parts"][0]["recipe"] == f"bare-wood, Blue Wool {RECIPE_BLUE_WOOL['BARE_WOOD']}"
     text = as_text({**report, "file": "sofa.blend"})
     assert "part Glass: does not age - attribute 'glass', channel R" in text
+    weights = [i.name for i in bpy.data.images if i.name.startswith("LF_Weights_")]
+    assert weights == []                      # Age bakes nothing: Apply bakes the weights
     images = api.apply_aging(scene)
+    assert [i.name for i in bpy.data.images if i.name.startswith("LF_Weights_")] == \
+        ["LF_Weights_LF_Aged_Carpet.Floor~0"]
     copy = _copy(material)
     applied = np.empty(N * N * 4, np.float32)
     images[copy.name].pixels.foreach_get(applied)
