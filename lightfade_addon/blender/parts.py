@@ -228,13 +228,17 @@ def prepare(scene, copy, colour, progress=None):
 
 
 def remove(copy):
-    """Remove the copy's lanes: their weights and aging groups (the shared tables stay
-    while some copy reads them, :func:`.agingdata.purge_tables`)."""
+    """Remove the copy's lanes: their weights and aging groups, unless a copy of the copy
+    shares them (the shared tables stay while some copy reads them,
+    :func:`.agingdata.purge_tables`)."""
     props = copy.lightfade
+    others = [m for m in bpy.data.materials if m != copy and len(m.lightfade.lanes)]
+    kept = {lane.weight_image for m in others for lane in m.lightfade.lanes}
+    kept.update(tree for m in others for tree in _lane_groups(m))
     weights = {lane.weight_image for lane in props.lanes if lane.weight_image is not None}
-    for image in weights:
+    for image in weights - kept:
         bpy.data.images.remove(image)
-    for tree in _lane_groups(copy):
+    for tree in set(_lane_groups(copy)) - kept:
         bpy.data.node_groups.remove(tree)
     props.lanes.clear()
 

@@ -511,3 +511,24 @@ def test_a_mask_image_whose_file_is_missing_is_named(sofa, tmp_path):
     with pytest.raises(api.AgingError, match="Image 'LostMask' of material 'Carpet' has no "
                        "pixels: the file is missing"):
         api.age_scene(bpy.context.scene, years=5)
+
+
+def test_removing_a_copy_of_an_aged_copy_keeps_the_aged_copys_parts(sofa):
+    """A copy of an aged copy (a user's duplicate) shares its mixing group, recipe groups
+    and weights: removing the duplicate leaves the aged copy whole."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.parts import _lane_groups
+    from lightfade_addon.blender.reset import remove_aged
+
+    material = sofa["material"]
+    api.set_parts(material, [dict(name="Frame", recipe="BARE_WOOD", image=_half_mask())])
+    _age(20.0)
+    scene = bpy.context.scene
+    copy = _copy(material)
+    before = _twin(material, 20.0).copy()                   # bakes the weights
+    groups = _lane_groups(copy)
+    remove_aged(copy.copy())
+    assert _lane_groups(copy) == groups and len(groups) == 2
+    assert all(lane.weight_image is not None for lane in copy.lightfade.lanes)
+    np.testing.assert_array_equal(_twin(material, 20.0), before)
+    assert api.material_plan(scene)[0]["status"] == "aged"
