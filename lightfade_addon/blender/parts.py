@@ -16,7 +16,8 @@ within 1/1024 of 0 or 1 taken as 0 or 1: filtering never leaks a trace) and
 ``C`` is the artist's colour and ``A_k`` lane k's aging group's output. The weights of
 all parts and the rest sum to one; where every aging weight is 0 (a part that does not
 age) ``out`` is ``C`` exactly, at every years, and at 0 years every ``A_k`` is ``C``
-(the group passes the colour through), so the whole material is its original.
+(the group passes the colour through; a material with a history, *Already Aged*, shows
+its aging parts restored to new), so the whole material is its original.
 
 **The seam.** :func:`wire` takes one aging node group per lane — any group with a
 Color input and a Color output that ages the colour with that lane's recipe — and

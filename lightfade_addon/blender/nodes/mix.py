@@ -62,8 +62,8 @@ def mix_group(name, parts, part_lane, rest_lane, lanes, groups, socket_types):
 
     ``parts``: the material's parts; ``part_lane`` each part's lane index (None: does
     not age), ``rest_lane`` the rest's; ``lanes`` the lane records (their recipe names
-    the nodes), ``groups`` their aging groups (each ages the artist's colour itself); ``socket_types``: {part index: the group
-    input type of a node-output mask}. Inputs Color and ``Mask <i>``; outputs Color and
+    the nodes), ``groups`` their aging groups (each ages the artist's colour itself);
+    ``socket_types``: {part index: the group input type of a node-output mask}. Inputs Color and ``Mask <i>``; outputs Color and
     ``Weights <j>`` (lanes 3j..3j+2, for the bake of the numpy twin).
     """
     tree = bpy.data.node_groups.new(name, "ShaderNodeTree")
