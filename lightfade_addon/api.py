@@ -14,6 +14,7 @@ add-on must be enabled (its properties are registered by ``register()``)::
     api.set_years(scene, 25)                          # the materials follow: no Python per pixel
     api.apply_aging(scene)                            # real aged images, for export
     api.material_plan(scene)                          # which path each material takes, why
+    api.set_parts(sofa, [dict(name="Frame", recipe="BARE_WOOD", image=mask)])  # by mask
     api.set_daylight(scene, 52.0, 4.5, north=0.0)     # a place: one annual daylight bake
     api.annual_dose(scene, obj)                       # {group: (H, W) lux·h per year}
     api.reset(scene)                                  # back to the original file
@@ -24,7 +25,7 @@ From a checkout, ``import lightfade_addon.api`` after enabling ``lightfade_addon
 from __future__ import annotations
 
 __all__ = ["bake", "age_scene", "set_years", "keyframe_years", "apply_aging", "live_aging",
-           "reset", "material_plan", "set_daylight", "annual_dose", "AgingError"]
+           "reset", "material_plan", "set_parts", "set_daylight", "annual_dose", "AgingError"]
 
 
 def _bpy():
@@ -145,6 +146,25 @@ def material_plan(scene=None, objects=()):
 
     scene = _scene(scene)
     return material_status(scene, list(objects))
+
+
+def set_parts(material, parts=(), rest=None):
+    """Say which parts of ``material`` age with which recipe (several materials in one
+    texture), replacing its parts; ``parts=()`` removes them.
+
+    Each part is a dict: ``name``, ``recipe`` (``"KEEP"``: does not age, or a recipe
+    identifier such as ``"BARE_WOOD"``), exactly one mask — ``image`` (a
+    ``bpy.types.Image``, with optional ``uv_map``), ``attribute`` (a colour or float
+    attribute of the mesh) or ``node`` (a node's name in the graph, with optional
+    ``socket``, its output's name) — and optional ``channel`` (``"R"``, ``"G"``, ``"B"``,
+    ``"A"``), ``blue_wool`` (1-8) or ``beta`` (×10⁻⁶). ``rest`` is ``"RECIPE"`` (what no
+    part claims ages with the material's recipe) or ``"KEEP"`` (it does not age).
+    Raises ``ValueError`` (one line) before anything changes. Press Age (or
+    :func:`age_scene`) afterwards; :func:`material_plan` lists what would stop it.
+    """
+    from .blender.part_properties import set_parts as _set
+
+    return _set(material, list(parts), rest)
 
 
 def set_daylight(scene=None, latitude=0.0, longitude=0.0, north=0.0, weather=None):

@@ -6,7 +6,7 @@ groups and handlers; :func:`unregister` undoes them in reverse.  Neither touches
 
 import bpy
 
-from . import cache, cli_command, handlers, panels, properties
+from . import cache, cli_command, handlers, panels, part_panel, properties
 from .bake import records as bake_records
 from .daylight import operators as daylight_operators
 from .daylight import panel as daylight_panel
@@ -20,6 +20,7 @@ classes = (
     *_OPERATOR_CLASSES,
     *daylight_operators.CLASSES,
     *panels.CLASSES,
+    *part_panel.CLASSES,
     *daylight_panel.CLASSES,
 )
 

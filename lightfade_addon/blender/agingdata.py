@@ -150,9 +150,14 @@ def rates(inputs, S, shape):
 
 
 def used_tables():
-    """Table images some aged copy reads."""
-    return {m.lightfade.table_image for m in bpy.data.materials
-            if m.lightfade.source is not None and m.lightfade.table_image is not None}
+    """Table images some aged copy reads (itself or through its parts' lanes)."""
+    used = set()
+    for m in bpy.data.materials:
+        if m.lightfade.source is not None:
+            used.update(i for i in (m.lightfade.table_image,
+                                    *(lane.table_image for lane in m.lightfade.lanes))
+                        if i is not None)
+    return used
 
 
 def purge_tables():

@@ -20,7 +20,7 @@ import time
 import bpy
 import numpy as np
 
-from . import agingdata, runtime
+from . import agingdata, parts, runtime
 from .albedo import albedo_image, bake_albedos
 from .copies import APPLIED_NAME, GROUP_NODE, copies_of, walk
 from .errors import AgingError, check_years
@@ -31,6 +31,7 @@ from .years import get_years, write_years
 from ..core.colorimetry import srgb_encode
 from ..core.colourtable import evaluate
 from .nodes.aging import GROUP_VERSION
+from .part_properties import parts_digest
 
 #: Prefix of the images :func:`apply_aging` writes.
 APPLIED_PREFIX = "LF_Applied_"
@@ -52,6 +53,8 @@ def stale_reason(scene, copy):
     props = copy.lightfade
     if runtime.group_version(copy) != GROUP_VERSION:
         return "its aging node group is from an older LightFade"
+    if props.source is not None and props.parts_key != parts_digest(props.source.lightfade):
+        return "the material's parts changed since Age"
     if props.signature != runtime.signature(scene, copy):
         return "exposure maps, schedule or recipe changed since Age"
     if props.aged_image is not None and props.aged_image.get(_APPLIED_SIGNATURE) != \
@@ -159,8 +162,10 @@ def original_pixels(scene, copy):
 def aged_pixels(scene, copy, years):
     """(H, W, 4) float32 linear aged colour of ``copy`` (the numpy evaluator): its colour
     at each texel centre lit by the exposure maps sampled there, as the group does."""
-    table = runtime.evaluator(copy)
     original = original_pixels(scene, copy)
+    if len(copy.lightfade.lanes):                    # several recipes by mask
+        return parts.aged_pixels(scene, _view_layer(scene), copy, original, years)
+    table = runtime.evaluator(copy)
     H, W = original.shape[:2]
     rgba = original.reshape(H * W, 4).copy()
     inputs, _keys = agingdata.map_inputs(scene, copy.lightfade.aged_object)

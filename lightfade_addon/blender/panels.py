@@ -51,10 +51,12 @@ class VIEW3D_PT_lightfade_aging(LightFadeSidebarMixin, bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         scene = context.scene
-        if YEARS_PROP in scene.keys():             # the keyframable custom property
-            layout.prop(scene, f'["{YEARS_PROP}"]', text="Years")
+        row = layout.row(align=True)
+        if YEARS_PROP in scene.keys():             # the keyframable custom property (I keys it)
+            row.prop(scene, f'["{YEARS_PROP}"]', text="Years")
         else:
-            layout.prop(scene.lightfade, "years")
+            row.prop(scene.lightfade, "years")
+        row.operator("lightfade.key_years", text="", icon="KEY_HLT")
         row = layout.row(align=True)
         row.operator("lightfade.age", icon="TIME")
         row.operator("lightfade.reset", icon="LOOP_BACK")

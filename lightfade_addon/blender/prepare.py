@@ -5,16 +5,17 @@ The order is the promise made to the user: every check that can refuse runs firs
 then each object gets its own aged copies (:mod:`.copies`), and each copy its aging
 node group (:mod:`.runtime`, :mod:`.nodes.aging`) between its own Base Color graph and
 its BSDF, reading the colour table its recipe and light spectra share (built once for
-the file, :mod:`.agingdata`) and the object's exposure maps; the scene's years drive
-them all (:mod:`.years`). Nothing is done per texel. If anything fails on the way, the
-copies made so far are removed again.
+the file, :mod:`.agingdata`) and the object's exposure maps — a material with parts
+gets one such group per recipe in use, mixed by the masks (:mod:`.parts`); the scene's
+years drive them all (:mod:`.years`). Nothing is done per texel. If anything fails on
+the way, the copies made so far are removed again.
 """
 
 from __future__ import annotations
 
 import bpy
 
-from . import agingdata, runtime
+from . import agingdata, parts, runtime
 from .copies import assign, copies_of, make_copy
 from .years import write_years
 from .errors import AgingError, check_years
@@ -75,7 +76,10 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
                 say((k + f) / len(pairs), f"{name}: {msg}")
 
             step(0.0, "aging group")
-            runtime.prepare(scene, copy, plan.colour, step)
+            if parts.has_parts(material):            # one shared group per recipe in use
+                parts.prepare(scene, copy, plan.colour, step)
+            else:
+                runtime.prepare(scene, copy, plan.colour, step)
     except BaseException:
         for copy in made:
             remove_aged(copy)

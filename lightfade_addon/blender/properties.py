@@ -17,7 +17,7 @@ Where the data lives
     screens are not lamps); otherwise its emission is off while baking and the bake
     report and panel say so, naming the object and material.
 ``Material.lightfade`` (:class:`LIGHTFADE_PG_material`)
-    The aging recipe of a material.
+    The aging recipe of a material, and its parts (:mod:`.part_properties`).
 ``Object.lightfade`` and ``Scene.lightfade_bake``
     The exposure maps of a mesh and the bake settings: :mod:`.bake.records` (registered
     with the bake package).
@@ -40,6 +40,7 @@ from bpy.props import (
 from bpy.types import PropertyGroup
 
 
+from .part_properties import REST_ITEMS, LIGHTFADE_PG_lane, LIGHTFADE_PG_part
 from .years import SOFT_MAX_YEARS, get_years, write_years
 from .vocabulary import (  # noqa: F401  (re-exported: the names scripts know)
     AUTO_SPECTRUM,
@@ -202,6 +203,19 @@ class LIGHTFADE_PG_material(PropertyGroup):
         soft_max=20000.0,
     )
     already_hours_per_day: _hours_per_day("Hours per day that light was on")
+    # -- several recipes in one material, by mask (.part_properties, .parts)
+    parts: CollectionProperty(type=LIGHTFADE_PG_part, name="Parts",
+                              description="Parts of the texture that age with their own recipe "
+                              "(or do not age), each given by a mask")
+    part_index: IntProperty(name="Active Part", default=0, min=0, options={"HIDDEN"},
+                            description="The part shown below the list")
+    rest: EnumProperty(name="Rest", items=REST_ITEMS, default="RECIPE",
+                       description="What happens to everything no part claims")
+    lanes: CollectionProperty(type=LIGHTFADE_PG_lane, name="Recipes in Use",
+                              description="On an aged copy with parts: one preparation per "
+                              "recipe in use")
+    parts_key: StringProperty(name="Parts at Age", description="On an aged copy: the parts "
+                              "it was made for (different parts now: press Age)")
     # -- written by Age on the object's aged copy of a material (read by Reset, the
     # -- handlers and the panels); the original material keeps none of this
     source: PointerProperty(
@@ -340,6 +354,8 @@ class LIGHTFADE_PG_scene(PropertyGroup):
 
 
 CLASSES = (
+    LIGHTFADE_PG_part,
+    LIGHTFADE_PG_lane,
     LIGHTFADE_PG_schedule,
     LIGHTFADE_PG_emission,
     LIGHTFADE_PG_slot_backup,

@@ -27,6 +27,7 @@ from .errors import AgingError
 from .exposure import exposure_images
 from .grids import SceneGridStore
 from .nodes.aging import VERSION_KEY, GroupSpec, new_group
+from .part_properties import parts_digest
 from .pixels import read_linear, read_rgba
 from .vocabulary import RECIPE_IDS, SPECTRUM_IDS
 
@@ -45,12 +46,17 @@ def clear():
 
 
 def forget(copy):
-    _EVALUATORS.pop(copy.session_uid, None)
+    for key in [k for k in _EVALUATORS if k[0] == copy.session_uid]:
+        del _EVALUATORS[key]
 
 
 def material_recipe(material):
     """The core recipe for a material's LightFade settings."""
-    props = material.lightfade
+    return settings_recipe(material.lightfade)
+
+
+def settings_recipe(props):
+    """The core recipe for recipe settings (a material's, a part's or a lane's)."""
     recipe = get_recipe(RECIPE_IDS[props.recipe])
     if props.sensitivity_mode == "BETA":
         return recipe.with_beta(props.beta * 1e-6)
@@ -91,6 +97,8 @@ def signature(scene, copy):
         maps = [str(err)]
     parts = [obj.lightfade.uv_map, *maps, s.recipe, s.sensitivity_mode, str(s.blue_wool),
              repr(s.beta), repr(material_prior(source)), props.path, props.uv_map]
+    if len(s.parts):                                  # several recipes by mask (.parts)
+        parts.append(parts_digest(s))
     return hashlib.sha1("|".join(parts).encode()).hexdigest()
 
 
@@ -181,16 +189,18 @@ def original_rgba(copy, shape):
     return rgba
 
 
-def evaluator(copy):
-    """The :class:`..core.colourtable.ColourTable` ``copy`` reads, from its table image
-    (cached while the image is the same)."""
-    props = copy.lightfade
-    key = props.table_image.as_pointer() if props.table_image else 0
-    cached = _EVALUATORS.get(copy.session_uid)
+def evaluator(copy, lane=None):
+    """The :class:`..core.colourtable.ColourTable` ``copy`` reads (or one ``lane`` of a
+    copy with parts, :mod:`.parts`), from its table image (cached while the image is
+    the same)."""
+    image = (copy.lightfade if lane is None else lane).table_image
+    key = image.as_pointer() if image else 0
+    slot = (copy.session_uid, "" if lane is None else lane.name)
+    cached = _EVALUATORS.get(slot)
     if cached is not None and cached[0] == key:
         return cached[1]
-    table = agingdata.read_table(props.table_image)
+    table = agingdata.read_table(image)
     if not isinstance(table, ColourTable):
         raise AgingError(f"Aged material '{copy.name}' lost its aging table: press Age")
-    _EVALUATORS[copy.session_uid] = (key, table)
+    _EVALUATORS[slot] = (key, table)
     return table

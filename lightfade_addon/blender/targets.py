@@ -8,6 +8,7 @@ every object and material and what to do.
 from __future__ import annotations
 
 from .copies import original
+from .parts import part_problems
 from .source import material_plan
 
 
@@ -40,6 +41,9 @@ def check(scene, pairs, need_exposure=True):
     plans, problems = {}, []
     for obj, material in pairs:
         plan = material_plan(scene, obj, material, need_exposure)
+        if plan.colour is not None:
+            plan.problems.extend(p for p in part_problems(obj, material, plan.colour)
+                                 if p not in plan.problems)
         plans[obj, material] = plan
         for problem in plan.problems:
             if problem not in problems:

@@ -24,6 +24,7 @@ from ..blender.bake import daylight as _daylight_bake
 from ..blender.bake.maps import map_key
 from ..blender.daylight import place as _place
 from ..blender.daylight.doses import material_doses
+from ..blender.parts import describe
 from ..blender.targets import targets
 
 # ------------------------------------------------------------------------------ queries
@@ -79,12 +80,15 @@ def would_age(scene):
     (:func:`..api.material_plan`)."""
     entries = []
     for row in api.material_plan(scene):
-        recipe, sensitivity = _recipe(bpy.data.materials[row["material"]])
+        material = bpy.data.materials[row["material"]]
+        recipe, sensitivity = _recipe(material)
         entries.append({
             "object": row["object"], "material": row["material"],
             "path": row["path"].lower(), "reason": row["reason"],
             "problems": list(row["problems"]), "status": row["status"],
             "recipe": recipe, "sensitivity": sensitivity,
+            "parts": [dict(name=n, recipe=r, mask=m) for n, r, m in describe(material)]
+            if len(material.lightfade.parts) else [],
         })
     return entries
 
@@ -215,6 +219,8 @@ def as_text(report):
     for e in report["would_age"]:
         out.append(f"    {e['object']} / {e['material']}: {e['path']} ({e['recipe']}, "
                    f"{e['sensitivity']}; {e['status']}) - {e['reason']}")
+        out.extend(f"      part {p['name']}: {p['recipe']} - {p['mask']}"
+                   for p in e.get("parts", []))
         out.extend(f"      problem: {p}" for p in e["problems"])
     out.append("  light groups:" if report["light_groups"] else "  light groups: none")
     for g in report["light_groups"]:

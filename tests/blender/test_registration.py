@@ -57,7 +57,8 @@ class TestRegister:
 
         for cls in shell.classes:
             name = cls.__name__
-            assert name.startswith(("LIGHTFADE_PG_", "LIGHTFADE_OT_", "VIEW3D_PT_lightfade_", "MATERIAL_PT_lightfade"))
+            assert name.startswith(("LIGHTFADE_PG_", "LIGHTFADE_OT_", "LIGHTFADE_UL_", "VIEW3D_PT_lightfade_",
+                                    "MATERIAL_PT_lightfade"))
             if name.startswith("VIEW3D_PT_"):
                 assert cls.bl_category == "LightFade" and cls.bl_region_type == "UI"
             if name.startswith("LIGHTFADE_OT_"):
