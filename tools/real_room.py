@@ -55,6 +55,12 @@ PLACEMENTS = (
 )
 
 
+#: The recipe an artist picks for each model: fabric for the upholstery and curtains,
+#: paint for the painted furniture (docs/recipes.md).
+ROLE_RECIPES = {"sofa": "DYED_FABRIC", "curtain": "DYED_FABRIC", "tall_cabinet": "PAINTED_WOOD",
+                "cabinet": "PAINTED_WOOD", "stool": "PAINTED_WOOD"}
+
+
 def _wall_y(y, x0, x1, z0, z1):
     return ((x0, y, z0), (x1, y, z0), (x1, y, z1), (x0, y, z1))
 
@@ -125,6 +131,7 @@ def build(asset_dir, daylight=True):
             for mat in obj.data.materials:
                 if mat is not None:
                     mat.lightfade.enabled = True
+                    mat.lightfade.recipe = ROLE_RECIPES[role]
         roles[role] = [o.name for o in objects]
     scene = bpy.context.scene
     if daylight:
