@@ -113,6 +113,18 @@ class TestNodeGroupAgainstNumpy:
         assert np.abs(new - old).max() > 0.05
         assert scene.lightfade.years == 30.0
 
+    def test_the_table_is_read_without_mip_maps(self, textured):
+        """Every table read is an Equirectangular Environment Texture (EEVEE samples it
+        without mip-maps: plain bilinear, as Cycles), none an Image Texture."""
+        _bake_and_age()
+        copy = the_copy(textured["material"])
+        (group,) = [n.node_tree for n in copy.node_tree.nodes if n.type == "GROUP"]
+        table = [n for n in group.nodes if getattr(n, "image", None) is not None
+                 and n.image.name.startswith("LF_Table_")]
+        assert len(table) == 4 and all(n.type == "TEX_ENVIRONMENT" for n in table)  # 1 spectrum
+        assert all(n.projection == "EQUIRECTANGULAR" and n.interpolation == "Linear"
+                   for n in table)
+
 
 RENDER_WITHOUT_LIGHTFADE = """
 import os, sys, numpy as np, bpy

@@ -27,6 +27,9 @@ Stages (node names start with the stage; the group reads left to right):
 ``table``
     per mix vertex, the four tiles (``b``, ``b + 1``) × (``t``, ``t + 1``), each looked up
     with Linear interpolation (bilinear over red and green), linear over blue and dose.
+    The lookups are Equirectangular Environment Textures, not Image Textures: EEVEE
+    mip-maps an Image Texture, and the lookup coordinates jump between tiles at the
+    artist's sharp colour edges, so it would read a blurred table there.
 ``colour``
     ``XYZ = M · rgb``, times ``exp(change)``, back to linear sRGB.
 ``gamut``
@@ -50,7 +53,7 @@ from ..years import YEARS_PROP
 from .graph import Graph, Sock
 
 #: Bumped whenever the group's nodes change: an older group is rebuilt (Age).
-GROUP_VERSION = 2
+GROUP_VERSION = 3
 #: Custom property on the group tree holding :data:`GROUP_VERSION`.
 VERSION_KEY = "lightfade_aging_version"
 
@@ -181,24 +184,34 @@ def _lerp(g, lo, hi, f):
 
 
 def _table(g, spec, cube, vertices, t, ft):
-    """Σ over mix vertices of weight · lerp_t lerp_b bilinear_rg(tile) — a vector Sock."""
+    """Σ over mix vertices of weight · lerp_t lerp_b bilinear_rg(tile) — a vector Sock.
+
+    Each tile is read by an Equirectangular Environment Texture (:meth:`Graph.environment`)
+    in the direction ``(cos φ, sin φ, tan θ)`` of atlas texel coordinates (u, v): both
+    engines map it to ``u = 0.5 - φ / 2π``, ``v = 0.5 + θ / π``, so
+    ``φ = π - 2π u`` (one cosine and sine per tile column, shared by every row) and
+    ``θ = π v - π/2`` (one tangent per tile row). The tiles' padding keeps u and v at
+    least 1.5 texels inside the atlas: no seam, no pole.
+    """
     g.stage = "table"
     W, H = spec.table_size
     P = float(spec.P)
     r, gg, b0, fb = cube
-    x0 = g.math("MULTIPLY_ADD", b0, P / W, (r + 1.5) * (1.0 / W))   # tile column b0
-    x1 = x0 + P / W                                                   # and b0 + 1
-    g_off = (gg + 1.5) * (1.0 / H)
+    pi = math.pi
+    phi0 = g.math("MULTIPLY_ADD", b0, -2.0 * pi * P / W,                   # column b0
+                  g.math("MULTIPLY_ADD", r, -2.0 * pi / W, pi - 3.0 * pi / W))
+    columns = [(phi.cos(), phi.sin()) for phi in (phi0, phi0 - 2.0 * pi * P / W)]
+    g_off = g.math("MULTIPLY_ADD", gg, pi / H, 1.5 * pi / H - 0.5 * pi)
     change = None
     for slot, weight in vertices:
         row = t if isinstance(slot, float) and slot == 0.0 else slot * float(spec.T) + t
-        y0 = g.math("MULTIPLY_ADD", row, P / H, g_off)                # tile row slot·T + t
-        y1 = y0 + P / H
+        theta0 = g.math("MULTIPLY_ADD", row, pi * P / H, g_off)         # row slot·T + t
         corners = []
-        for y in (y0, y1):
-            for x in (x0, x1):
-                colour, _a = g.image(spec.table_image, g.combine(x, y), "Linear", "EXTEND")
-                corners.append(colour)
+        for theta in (theta0, theta0 + pi * P / H):
+            lift = theta.tan()
+            for cos_phi, sin_phi in columns:
+                corners.append(g.environment(spec.table_image,
+                                             g.combine(cos_phi, sin_phi, lift), "Linear"))
         step = _lerp(g, _lerp(g, corners[0], corners[1], fb),
                      _lerp(g, corners[2], corners[3], fb), ft)
         term = step if weight is None else g.vector("SCALE", step, None, None, weight)

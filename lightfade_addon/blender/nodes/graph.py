@@ -48,6 +48,9 @@ class Sock:
     def ln(self): return self._op("LOGARITHM", 2.718281828459045)
     def exp(self): return self._op("EXPONENT")
     def round(self): return self._op("ROUND")
+    def cos(self): return self._op("COSINE")
+    def sin(self): return self._op("SINE")
+    def tan(self): return self._op("TANGENT")
     def min(self, o): return self._op("MINIMUM", o)
     def max(self, o): return self._op("MAXIMUM", o)
 
@@ -121,6 +124,15 @@ class Graph:
         node = self.node("ShaderNodeTexImage", {"Vector": uv}, image=image,
                          interpolation=interpolation, extension=extension)
         return self.out(node, "Color"), self.out(node, "Alpha")
+
+    def environment(self, image, direction, interpolation="Linear"):
+        """Colour of ``image`` (Equirectangular) in the vector ``direction`` (a Sock).
+
+        Unlike :meth:`image`, EEVEE samples it without mip-maps or anisotropic
+        filtering: Linear is plain bilinear in both engines."""
+        node = self.node("ShaderNodeTexEnvironment", {"Vector": direction}, image=image,
+                         interpolation=interpolation, projection="EQUIRECTANGULAR")
+        return self.out(node, "Color")
 
     def fetch(self, image, size, x, y, extension="EXTEND"):
         """Texel (integer ``x``, ``y``) of an image of ``size`` (W, H), unfiltered."""
