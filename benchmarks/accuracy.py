@@ -24,8 +24,12 @@ import numpy as np
 
 from benchmarks.problem import cmy_problem, random_mixtures
 from lightfade_addon.core import simulate
-from lightfade_addon.core.colorimetry import (
-    delta_E_2000, delta_E_ab, reflectance_to_Lab, rms_delta_R)
+from lightfade_addon.core.colour.colorimetry import (
+    delta_E_2000,
+    delta_E_ab,
+    reflectance_to_Lab,
+    rms_delta_R,
+)
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 LAYERS = (2, 4, 8, 16, 32, 64, 128)

@@ -14,8 +14,8 @@ import time
 
 import numpy as np
 
-from lightfade_addon.core import colorimetry as cm
-from lightfade_addon.core import spectra as sp
+from lightfade_addon.core.colour import colorimetry as cm
+from lightfade_addon.core.fading import spectra as sp
 
 
 def timed(fn, repeat=7):

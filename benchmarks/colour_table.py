@@ -21,14 +21,19 @@ import time
 
 import numpy as np
 
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode, srgb_encode)
-from lightfade_addon.core.colourtable import evaluate
-from lightfade_addon.core.tablebuild import TableSettings, build_table
-from lightfade_addon.core.exact import age_image_exact
-from lightfade_addon.core.grid import GridSettings
-from lightfade_addon.core.lights import Light
-from lightfade_addon.core.recipes import get_recipe
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+    srgb_encode,
+)
+from lightfade_addon.core.aging.colourtable import evaluate
+from lightfade_addon.core.aging.tablebuild import TableSettings, build_table
+from lightfade_addon.core.fading.exact import age_image_exact
+from lightfade_addon.core.fading.grid import GridSettings
+from lightfade_addon.core.fading.lights import Light
+from lightfade_addon.core.fading.recipes import get_recipe
 
 LIGHT = Light("daylight", False, 3000.0, 8.9, 365.0)          # 0.97 Mlx·h a year
 YEARS = (5.0, 25.0)

@@ -27,7 +27,7 @@ vertical planes facing N, E, S, W:
 on the horizontal and on V/H; horizontal lux·h over pvlib's W·h between 90 and 130 lm/W.
 
 **Clear sky anywhere** (issue 26.5): seven cities, clear sky, each with the monthly Linke
-turbidity of its place (ours: the bundled 1° climatology, ``core/clearsky.py``; pvlib: its
+turbidity of its place (ours: the bundled 1° climatology, ``core/daylight/clearsky.py``; pvlib: its
 own 5' lookup, ``LinkeTurbidities.h5``), the wall/horizontal ratios in lux: ours from the
 photometric map (the default sky), pvlib's Perez plane irradiance with each component
 (beam, sky diffuse, ground) turned into lux by the Perez et al. (1990) efficacies of the
@@ -44,8 +44,14 @@ import time
 
 import numpy as np
 
-from lightfade_addon.core.daylight import PLACES, SKY_MODELS, Place, annual_sky_map, plane_dose
-from lightfade_addon.core.clearsky import linke_turbidity
+from lightfade_addon.core.daylight.annual import (
+    PLACES,
+    SKY_MODELS,
+    Place,
+    annual_sky_map,
+    plane_dose,
+)
+from lightfade_addon.core.daylight.clearsky import linke_turbidity
 
 PLANES = {  # name: (scene normal with north = 0, pvlib tilt, pvlib surface azimuth)
     "horizontal": ((0, 0, 1), 0.0, 180.0),
@@ -140,7 +146,11 @@ def pvlib_lux(place):
     import pandas as pd
     import pvlib
 
-    from lightfade_addon.core.perez import luminous_efficacy, sky_brightness, sky_clearness
+    from lightfade_addon.core.daylight.perez import (
+        luminous_efficacy,
+        sky_brightness,
+        sky_clearness,
+    )
 
     times = pd.date_range("2025-01-01 00:02:30", "2025-12-31 23:57:30", freq="5min", tz="UTC")
     loc = pvlib.location.Location(place.latitude, place.longitude, altitude=place.altitude)

@@ -25,7 +25,11 @@ import bpy  # noqa: E402
 import addon_utils  # noqa: E402
 
 from benchmarks.problem import synthetic_photo  # noqa: E402
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ  # noqa: E402
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+)  # noqa: E402
 
 
 def scene_with_plane():

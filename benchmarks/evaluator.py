@@ -6,7 +6,7 @@ Prints milliseconds per megatexel for one years value, side by side:
   two 6-byte gathers per vertex, single-threaded), copied here verbatim in
   :func:`_before`, plus what ``apply.write_years`` did to its output (``nan_to_num``,
   ``clip``) — the per-texture work of every years change then;
-* ``after``: :func:`lightfade_addon.core.table.evaluate` (float32 table, row gathers,
+* ``after``: :func:`lightfade_addon.core.aging.table.evaluate` (float32 table, row gathers,
   blocks on threads), what ``api.apply_aging`` runs once per texture now.
 
 Both read the same random table and texels (K keys, S spectra, T = 65 dose nodes), so
@@ -22,9 +22,9 @@ import time
 
 import numpy as np
 
-from lightfade_addon.core.gamut import into_gamut_planes
-from lightfade_addon.core.lattice import mix_lattice
-from lightfade_addon.core.table import AgingTable, Texels, evaluate, texel_positions
+from lightfade_addon.core.colour.gamut import into_gamut_planes
+from lightfade_addon.core.fading.lattice import mix_lattice
+from lightfade_addon.core.aging.table import AgingTable, Texels, evaluate, texel_positions
 
 
 def _before(values16, offsets, weights, sigma, T, XYZ, to_rgb, root, out):

@@ -34,7 +34,7 @@ def main(argv=None):
     parser.add_argument("--size", type=int, default=2048)
     args = parser.parse_args(argv)
     from lightfade_addon import api
-    from lightfade_addon.blender.copies import copies_of
+    from lightfade_addon.blender.aging.copies import copies_of
 
     scene, floor = build(args.size)
     (copy,) = copies_of(obj=floor)

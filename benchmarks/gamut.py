@@ -5,7 +5,7 @@
 Each procedural demo texture (``scenes/textures.py``) is aged with the recipe the
 demo gives it, under window daylight at 3000 lux, 8 h a day, and the share of
 texels whose modelled aged colour left [0, 1] in linear sRGB (and which
-:func:`lightfade_addon.core.gamut.into_gamut` maps back, keeping hue) is printed.
+:func:`lightfade_addon.core.colour.gamut.into_gamut` maps back, keeping hue) is printed.
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import pathlib
 
 import numpy as np
 
-from lightfade_addon.core.aging import Light, TextureAger
+from lightfade_addon.core.aging.ager import Light, TextureAger
 from scenes import textures
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]

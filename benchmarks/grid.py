@@ -27,14 +27,18 @@ import time
 import numpy as np
 
 from benchmarks.problem import synthetic_photo
-from lightfade_addon.core.aging import Light, TextureAger
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, reflectance_to_XYZ, srgb_decode)
-from lightfade_addon.core.grid import GridSettings
-from lightfade_addon.core.gridbuild import build_grid
-from lightfade_addon.core.recipes import RECIPES
-from lightfade_addon.core.spectra import WAVELENGTHS as LAM, light_spectrum
-from lightfade_addon.core.unmix import get_unmixer
+from lightfade_addon.core.aging.ager import Light, TextureAger
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    reflectance_to_XYZ,
+    srgb_decode,
+)
+from lightfade_addon.core.fading.grid import GridSettings
+from lightfade_addon.core.fading.gridbuild import build_grid
+from lightfade_addon.core.fading.recipes import RECIPES
+from lightfade_addon.core.fading.spectra import WAVELENGTHS as LAM, light_spectrum
+from lightfade_addon.core.fading.unmix import get_unmixer
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 RECIPE = RECIPES["printed-paper"]
@@ -78,7 +82,7 @@ def timed(fn, repeat=5):
 MEMORY_SCRIPT = """
 import resource, sys, numpy as np
 from benchmarks.problem import synthetic_photo
-from lightfade_addon.core.aging import Light, TextureAger
+from lightfade_addon.core.aging.ager import Light, TextureAger
 rgb = synthetic_photo(4096, 4096)
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 ager = TextureAger(rgb, "printed-paper", [Light("daylight-glass", lux=2000)], encoding="srgb",
@@ -110,7 +114,7 @@ def main(argv=None):
              "is linear in dose^(1/3) between 65 cubically spaced nodes (one gather per "
              "texel on the slider). Textures with more distinct colours than 65,536 keys: "
              "up to 131,072 colours are unmixed exactly, more take a linear step from their "
-             "bin's solution; keys are then bins in concentration space (`core/texels.py`).",
+             "bin's solution; keys are then bins in concentration space (`core/aging/texels.py`).",
              "",
              "Photographs, every recipe and light, the whole years slider, against "
              "`age-image --exact`: [grid_photos.md](grid_photos.md) "

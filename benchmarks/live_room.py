@@ -136,7 +136,7 @@ def main(argv=None):
     parser.add_argument("--eevee", action="store_true", help="also first EEVEE renders")
     args = parser.parse_args(argv)
     from lightfade_addon import api
-    from lightfade_addon.core import cache
+    from lightfade_addon.core.fading import cache
 
     folder = tempfile.mkdtemp(prefix="lf_room_")
     cache.set_directory(os.path.join(folder, "cache"))         # an empty table cache

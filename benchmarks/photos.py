@@ -31,11 +31,16 @@ import time
 import numpy as np
 
 from benchmarks.problem import synthetic_photo
-from lightfade_addon.core.aging import Light, TextureAger
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode
-from lightfade_addon.core.exact import age_image_exact
-from lightfade_addon.core.gridbuild import build_grid
-from lightfade_addon.core.recipes import RECIPES
+from lightfade_addon.core.aging.ager import Light, TextureAger
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+)
+from lightfade_addon.core.fading.exact import age_image_exact
+from lightfade_addon.core.fading.gridbuild import build_grid
+from lightfade_addon.core.fading.recipes import RECIPES
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 YEARS = (0.3, 1.0, 2.5, 6.0, 15.0, 40.0, 100.0)

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from lightfade_addon.core.colourants import load_colourant, load_substrate
-from lightfade_addon.core.layered import trapezoid_weights
-from lightfade_addon.core.spectra import WAVELENGTHS, light_spectrum
+from lightfade_addon.core.fading.colourants import load_colourant, load_substrate
+from lightfade_addon.core.fading.layered import trapezoid_weights
+from lightfade_addon.core.fading.spectra import WAVELENGTHS, light_spectrum
 
 #: Relative fading speeds of cyan, magenta and yellow (magenta goes first).
 SPEEDS = np.array([2.0, 5.0, 3.0])

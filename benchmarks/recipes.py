@@ -3,7 +3,7 @@
     python -m benchmarks.recipes [--exact] [--recipe NAME ...]
 
 Every palette is aged with the core on the path ``age-image`` uses
-(:class:`lightfade_addon.core.aging.TextureAger`: the grid, the unmixer, the aging
+(:class:`lightfade_addon.core.aging.ager.TextureAger`: the grid, the unmixer, the aging
 table), or with ``--exact`` on the reference path (one direct simulation per colour),
 under daylight through window glass (``daylight-glass``, CIE ID65) at 2,000 lux for
 8 h a day, 365 days a year (5.84 Mlx·h a year). Printed per recipe:
@@ -24,10 +24,15 @@ import time
 
 import numpy as np
 
-from lightfade_addon.core.aging import Light, TextureAger, age_image_exact
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, delta_E_ab, linear_srgb_to_XYZ, srgb_decode)
-from lightfade_addon.core.recipes import RECIPES
+from lightfade_addon.core.aging.ager import Light, TextureAger, age_image_exact
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    delta_E_ab,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+)
+from lightfade_addon.core.fading.recipes import RECIPES
 
 #: Daylight through window glass, 2,000 lux, 8 h a day (the issue's light).
 LIGHT = Light("daylight-glass", False, 2000.0, 8.0, 365.0)

@@ -20,10 +20,15 @@ import time
 
 import numpy as np
 
-from lightfade_addon.core.aging import Light, TextureAger
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode, srgb_encode)
-from lightfade_addon.core.restore import restore
+from lightfade_addon.core.aging.ager import Light, TextureAger
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+    srgb_encode,
+)
+from lightfade_addon.core.aging.restore import restore
 
 YEARS = 25.0
 HDRIS = ("courtyard", "forest", "interior")

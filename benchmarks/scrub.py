@@ -76,7 +76,7 @@ def build(size):
 
 def duplicate(scene, floor, n):
     """``n`` aged planes in all: linked duplicates of ``floor`` with their own aged copy."""
-    from lightfade_addon.blender.copies import copies_of
+    from lightfade_addon.blender.aging.copies import copies_of
 
     (copy,) = copies_of(obj=floor)
     for k in range(n - 1):

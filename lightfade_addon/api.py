@@ -71,7 +71,7 @@ def age_scene(scene=None, years=None, objects=(), progress=None):
     Returns the aged materials (one per object and material). Raises :class:`AgingError`
     naming every problem found, before anything changes, when something cannot be aged.
     """
-    from .blender.prepare import age_scene as _age
+    from .blender.aging.prepare import age_scene as _age
 
     scene = _scene(scene)
     years = scene.lightfade.years if years is None else years
@@ -88,7 +88,7 @@ def set_years(scene=None, years=0.0):
     :class:`AgingError` for years that are not a finite number >= 0, before anything
     changes. Returns the seconds taken.
     """
-    from .blender.apply import update_scene
+    from .blender.aging.apply import update_scene
     from .blender.errors import check_years
 
     scene = _scene(scene)
@@ -99,7 +99,7 @@ def keyframe_years(scene=None, keys=()):
     """Keyframe the scene's years (the custom property ``lightfade_years`` the aged
     materials read): ``keys`` is a sequence of (frame, years) pairs."""
     from .blender.errors import check_years
-    from .blender.years import keyframe_years as key
+    from .blender.aging.years import keyframe_years as key
 
     scene = _scene(scene)
     keys = [(int(frame), check_years(years)) for frame, years in keys]
@@ -114,7 +114,7 @@ def apply_aging(scene=None, years=None):
     ``years`` defaults to the scene's. Returns {aged material name: image}.
     :func:`live_aging` puts the node groups back.
     """
-    from .blender.apply import apply_aging as _apply
+    from .blender.aging.apply import apply_aging as _apply
 
     return _apply(_scene(scene), years)
 
@@ -122,7 +122,7 @@ def apply_aging(scene=None, years=None):
 def live_aging(scene=None):
     """Undo :func:`apply_aging`: the node groups evaluate the years again; returns how
     many applied images were removed."""
-    from .blender.apply import live_aging as _live
+    from .blender.aging.apply import live_aging as _live
 
     return _live(_scene(scene))
 

@@ -10,8 +10,13 @@ import pytest
 from PIL import Image
 
 from lightfade_addon import cli, images
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode, srgb_encode)
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+    srgb_encode,
+)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 H, W = 16, 24
@@ -121,7 +126,7 @@ class TestAgeImage:
         assert "\r" not in run8["stderr"]                        # not a terminal: plain lines
 
     def test_the_schedule_sets_the_light_and_the_dose(self, tmp_path, capsys, monkeypatch):
-        from lightfade_addon.core import aging
+        from lightfade_addon.core.aging import ager as aging
 
         lights = []
 

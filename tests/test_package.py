@@ -107,8 +107,8 @@ class TestImportCircles:
 
     def test_the_graph_sees_imports(self):
         graph = import_graph()
-        assert "lightfade_addon.blender.runtime" in graph["lightfade_addon.blender.apply"]
-        assert "lightfade_addon.core.aging" in graph["lightfade_addon.blender.runtime"]
+        assert "lightfade_addon.blender.aging.runtime" in graph["lightfade_addon.blender.aging.apply"]
+        assert "lightfade_addon.core.aging.ager" in graph["lightfade_addon.blender.aging.runtime"]
         assert "lightfade_addon.blender.bake" in graph["lightfade_addon.pipeline.steps"]
 
     def test_commands_never_import_the_cli(self):
@@ -137,8 +137,8 @@ def test_scene_scripts_are_small():
 WITHOUT_BLENDER = """
 import contextlib, io, json, sys
 import lightfade_addon, lightfade_addon.cli, lightfade_addon.core
-import lightfade_addon.core.colorimetry, lightfade_addon.core.colourants
-import lightfade_addon.core.spectra
+import lightfade_addon.core.colour.colorimetry, lightfade_addon.core.fading.colourants
+import lightfade_addon.core.fading.spectra
 
 def blender():
     return sorted(m for m in sys.modules if m.split('.')[0] in {'bpy', 'mathutils', 'bmesh'})

@@ -25,9 +25,14 @@ sys.path.insert(0, str(ROOT))
 
 from figures import pyplot, save  # noqa: E402  (tools/figures.py)
 
-from lightfade_addon.core.colorimetry import delta_E_2000, reflectance_to_Lab  # noqa: E402
-from lightfade_addon.core.recipes import get_recipe  # noqa: E402
-from lightfade_addon.core.spectra import WAVELENGTHS, illuminance, light_spectrum, resample  # noqa: E402
+from lightfade_addon.core.colour.colorimetry import delta_E_2000, reflectance_to_Lab  # noqa: E402
+from lightfade_addon.core.fading.recipes import get_recipe  # noqa: E402
+from lightfade_addon.core.fading.spectra import (
+    WAVELENGTHS,
+    illuminance,
+    light_spectrum,
+    resample,
+)  # noqa: E402
 
 #: ColorChecker patches the light bounces off (names as colour-science spells them).
 SURFACES = {"red": "red", "green": "green", "blue": "blue", "yellow": "yellow"}

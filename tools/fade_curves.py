@@ -21,9 +21,9 @@ sys.path.insert(0, str(ROOT))
 
 from figures import pyplot, save  # noqa: E402  (tools/figures.py)
 
-from lightfade_addon.core.colorimetry import delta_E_2000, reflectance_to_Lab  # noqa: E402
-from lightfade_addon.core.recipes import get_recipe  # noqa: E402
-from lightfade_addon.core.spectra import WAVELENGTHS, light_spectrum  # noqa: E402
+from lightfade_addon.core.colour.colorimetry import delta_E_2000, reflectance_to_Lab  # noqa: E402
+from lightfade_addon.core.fading.recipes import get_recipe  # noqa: E402
+from lightfade_addon.core.fading.spectra import WAVELENGTHS, light_spectrum  # noqa: E402
 
 SHADES = {"deep (0.8)": 0.8, "pale (0.1)": 0.1}
 MAX_DOSE = 20e6

@@ -1,9 +1,9 @@
 """Figures 6 and 7 of the paper, redone with LightFade on a generated photograph.
 
 * ``docs/img/figure7.png`` (paper, Figure 7): the photograph, faded by the reference
-  path (:func:`lightfade_addon.core.aging.age_image_exact`: one direct simulation per
+  path (:func:`lightfade_addon.core.aging.ager.age_image_exact`: one direct simulation per
   distinct colour, "without selective interpolation") and through the mixture grid
-  (:class:`lightfade_addon.core.aging.TextureAger`), side by side, with a CIEDE2000
+  (:class:`lightfade_addon.core.aging.ager.TextureAger`), side by side, with a CIEDE2000
   map of grid vs reference.
 * ``docs/img/figure6.png`` (paper, Figure 6): the photograph faded over progressively
   longer times (the reference path).
@@ -29,9 +29,13 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from lightfade_addon.core.aging import Light, TextureAger, age_image_exact  # noqa: E402
-from lightfade_addon.core.colorimetry import (  # noqa: E402
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
+from lightfade_addon.core.aging.ager import Light, TextureAger, age_image_exact  # noqa: E402
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+)
 
 SEQUENCE = (0, 10, 25, 50, 100)
 RECIPE = "printed-paper"

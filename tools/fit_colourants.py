@@ -32,19 +32,19 @@ from scipy.optimize import least_squares
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from lightfade_addon.core.colorimetry import (  # noqa: E402
+from lightfade_addon.core.colour.colorimetry import (
     delta_E_2000,
     delta_E_ab,
     reflectance_to_Lab,
 )
-from lightfade_addon.core.colourants import (  # noqa: E402
+from lightfade_addon.core.fading.colourants import (
     DATA_DIR,
     Colourant,
     Substrate,
     save_colourant,
     save_substrate,
 )
-from lightfade_addon.core.kubelka import kubelka_layer, over_ground  # noqa: E402
+from lightfade_addon.core.fading.kubelka import kubelka_layer, over_ground  # noqa: E402
 
 #: Grid of the bundled files, in nm.
 GRID = np.arange(300.0, 780.0 + 2.5, 5.0)

@@ -23,7 +23,7 @@ Written: ``lightfade_addon/core/data/linke_turbidity.npz`` with
 * ``source``, ``licence``: the lines above, kept with the numbers.
 
 At the default 1° the file is about 300 kB; the script prints its size and how far the
-file's values, read by :func:`lightfade_addon.core.clearsky.linke_turbidity`, are from
+file's values, read by :func:`lightfade_addon.core.daylight.clearsky.linke_turbidity`, are from
 pvlib's own lookup (the nearest 5' cell) at a set of cities.
 """
 
@@ -77,7 +77,7 @@ def check(path):
     import pandas as pd
     import pvlib
 
-    from lightfade_addon.core import clearsky
+    from lightfade_addon.core.daylight import clearsky
 
     clearsky._climatology.cache_clear()
     times = pd.date_range("2025-01-15", periods=12, freq=pd.DateOffset(months=1))

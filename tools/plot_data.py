@@ -23,8 +23,8 @@ import numpy as np  # noqa: E402
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from lightfade_addon.core.colourants import available, load_colourant, load_substrate  # noqa: E402
-from lightfade_addon.core.spectra import LIGHTS, light_spectrum  # noqa: E402
+from lightfade_addon.core.fading.colourants import available, load_colourant, load_substrate  # noqa: E402
+from lightfade_addon.core.fading.spectra import LIGHTS, light_spectrum  # noqa: E402
 
 OUT = ROOT / "docs" / "img"
 COLOURS = {

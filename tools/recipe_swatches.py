@@ -3,7 +3,7 @@
     python tools/recipe_swatches.py
 
 Upholstery, paint and print colours and nine woods, aged with the core on the path
-``age-image`` uses (:class:`lightfade_addon.core.aging.TextureAger`) under daylight
+``age-image`` uses (:class:`lightfade_addon.core.aging.ager.TextureAger`) under daylight
 through window glass at 2,000 lux for 8 h a day (5.84 Mlx·h a year, a bright spot near
 a window); one row per colour, one column per age, each recipe with the years that show
 its pace (paint takes about nine times the dose of fabric; wood changes most in its
@@ -23,7 +23,7 @@ sys.path.insert(0, str(ROOT))
 from figures import pyplot, save  # noqa: E402  (tools/figures.py)
 
 from benchmarks.recipes import CHROMATIC, LIGHT, NEUTRALS, WOODS  # noqa: E402
-from lightfade_addon.core.aging import TextureAger  # noqa: E402
+from lightfade_addon.core.aging.ager import TextureAger  # noqa: E402
 
 #: Colours shown for the dyed, painted and printed recipes (a subset of the palettes).
 COLOURS = ["black", "charcoal", "mid grey", "greige", "grey brown", "red", "burgundy",

@@ -4,7 +4,7 @@
         [--doses 1 3 10]
 
 Ages every texel of TEXTURE (any image, e.g. a Poly Haven base-colour map; nothing is
-written) with the core (:class:`lightfade_addon.core.aging.TextureAger`, as
+written) with the core (:class:`lightfade_addon.core.aging.ager.TextureAger`, as
 ``age-image``) under daylight through window glass, at a uniform annual dose per run
 (Mlx·h a year: a sofa's most-exposed quarter near a window gets a few), and prints for
 the aged texture: near-neutral texels (C*ab < 10 when new) — median and 95th percentile
@@ -24,9 +24,12 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from lightfade_addon.core.aging import Light, TextureAger  # noqa: E402
-from lightfade_addon.core.colorimetry import (  # noqa: E402
-    XYZ_to_Lab, linear_srgb_to_XYZ, srgb_decode)
+from lightfade_addon.core.aging.ager import Light, TextureAger  # noqa: E402
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+)
 
 
 def lab(rgb):

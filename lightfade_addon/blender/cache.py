@@ -10,7 +10,7 @@ import os
 
 import bpy
 
-from ..core import cache
+from ..core.fading import cache
 
 
 def extension_cache_dir():

@@ -17,7 +17,7 @@ one exception type.
 
 from __future__ import annotations
 
-from ..core.lights import Light
+from ..core.fading.lights import Light
 from . import bake
 from .errors import AgingError
 

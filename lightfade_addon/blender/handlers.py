@@ -9,7 +9,7 @@
   other update returns at once.
 
 The years themselves need no handler: keyframes and the slider change the scene's
-custom property that the aged materials read themselves (:mod:`.years`).
+custom property that the aged materials read themselves (:mod:`.aging.years`).
 
 Handlers are added and removed exactly once each (:func:`register`/:func:`unregister`).
 """
@@ -17,12 +17,12 @@ Handlers are added and removed exactly once each (:func:`register`/:func:`unregi
 import bpy
 from bpy.app.handlers import persistent
 
-from . import runtime
-from .agingdata import PREFIXES
+from .aging import runtime
+from .aging.data import PREFIXES
 from .albedo import ALBEDO_PREFIX
-from .apply import APPLIED_PREFIX
-from .parts import WEIGHTS_PREFIX
-from .years import linear_keys
+from .aging.apply import APPLIED_PREFIX
+from .aging.parts import WEIGHTS_PREFIX
+from .aging.years import linear_keys
 
 
 @persistent

@@ -3,17 +3,17 @@ Material Properties."""
 
 import bpy
 
-from ..core.recipes import RECIPES, blue_wool_dose, fastness_text
-from .apply import aged_copies
-from .copies import original
+from ..core.fading.recipes import RECIPES, blue_wool_dose, fastness_text
+from .aging.apply import aged_copies
+from .aging.copies import original
 from .vocabulary import RECIPE_IDS
 from .source import material_plan
 from .bake.daylight import stands_for_daylight
 from .bake.panel import draw_bake_panel
 from .stats import annual_dose, emitter_schedule, image_max
 from .status import copy_status
-from .runtime import material_recipe
-from .years import YEARS_PROP
+from .aging.runtime import material_recipe
+from .aging.years import YEARS_PROP
 from ..output import plural
 
 

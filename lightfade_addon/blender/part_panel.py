@@ -2,9 +2,9 @@
 
 import bpy
 
-from .copies import original
+from .aging.copies import original
 from .part_properties import KEEP
-from .parts import part_problems, recipes_in_use
+from .aging.parts import part_problems, recipes_in_use
 from .source import find_colour_socket
 
 #: What each mask source does, said under it.

@@ -11,7 +11,7 @@ does not age. A part whose recipe is *Does Not Age* stays exactly as it is.
 On an aged copy, ``Material.lightfade.lanes`` (:class:`LIGHTFADE_PG_lane`) holds one
 preparation per recipe in use (parts with the same recipe and sensitivity share one):
 its recipe, the colour table its aging group reads and the weights baked for Apply to
-Images (:mod:`.parts`).
+Images (:mod:`.aging.parts`).
 """
 
 import bpy

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..core.colorimetry import srgb_decode
+from ..core.colour.colorimetry import srgb_decode
 
 #: Colour spaces whose stored values LightFade can read without Blender's colour
 #: management: sRGB (decoded here) and linear Rec.709 / data (taken as they are).

@@ -4,7 +4,7 @@ Where the data lives
 --------------------
 ``Scene.lightfade`` (:class:`LIGHTFADE_PG_scene`)
     The bake settings, and ``years``: a view of the scene's custom property
-    ``lightfade_years`` (:mod:`.years`), which the aged materials read themselves.
+    ``lightfade_years`` (:mod:`.aging.years`), which the aged materials read themselves.
 ``Light.lightfade`` and ``World.lightfade`` (:class:`LIGHTFADE_PG_schedule`)
     The light schedule of a lamp or of the sky: spectrum, UV filter, hours per day,
     days per year, and whether the emitter takes part in aging.  It lives on the light
@@ -41,8 +41,8 @@ from bpy.types import PropertyGroup
 
 
 from .part_properties import REST_ITEMS, LIGHTFADE_PG_lane, LIGHTFADE_PG_part
-from .years import SOFT_MAX_YEARS, get_years, write_years
-from .vocabulary import (  # noqa: F401  (re-exported: the names scripts know)
+from .aging.years import SOFT_MAX_YEARS, get_years, write_years
+from .vocabulary import (
     AUTO_SPECTRUM,
     PRIOR_SPECTRUM_ITEMS,
     EMITTER_KIND_ITEMS,

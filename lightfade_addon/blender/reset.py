@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import bpy
 
-from . import agingdata, parts, runtime
+from .aging import data as agingdata, parts, runtime
 from .albedo import ALBEDO_PREFIX
-from .copies import copies_of, remove_copy
+from .aging.copies import copies_of, remove_copy
 from .daylight.view import clear_view
 from .exposure import remove_exposure
-from .grids import purge
+from .aging.grids import purge
 
 
 def remove_aged(copy):

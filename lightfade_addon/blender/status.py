@@ -5,8 +5,8 @@ For the panels and :func:`lightfade_addon.api.material_plan`.  Runs no Cycles wo
 
 from __future__ import annotations
 
-from .apply import stale_message
-from .copies import copies_of
+from .aging.apply import stale_message
+from .aging.copies import copies_of
 from .targets import check, targets
 
 

@@ -7,8 +7,8 @@ every object and material and what to do.
 
 from __future__ import annotations
 
-from .copies import original
-from .parts import part_problems
+from .aging.copies import original
+from .aging.parts import part_problems
 from .source import material_plan
 
 

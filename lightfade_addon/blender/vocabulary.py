@@ -6,8 +6,8 @@ description from the core's own one-line description), so the words in the inter
 are the data's words, and a spectrum or recipe added to the core appears in the UI.
 """
 
-from ..core import recipes as _recipes
-from ..core import spectra as _spectra
+from ..core.fading import recipes as _recipes
+from ..core.fading import spectra as _spectra
 
 
 def enum_id(core_name):

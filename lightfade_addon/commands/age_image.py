@@ -37,9 +37,9 @@ _LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
 
 def add_arguments(parser):
     """The options, in groups: input and output, the light, the model."""
-    from ..core.fading import KINETICS
-    from ..core.recipes import RECIPES
-    from ..core.spectra import LIGHTS
+    from ..core.fading.model import KINETICS
+    from ..core.fading.recipes import RECIPES
+    from ..core.fading.spectra import LIGHTS
 
     d = DEFAULTS
     files = parser.add_argument_group("input and output")
@@ -185,7 +185,7 @@ def _write(path, rgb, alpha, dtype, metadata=None):
 
 def _restore(rgb, alpha, info, years, recipe, light, exposure, base, encoding):
     """Restore an already-old photo; write ``<base>_restored`` and ``<base>_lost.png``."""
-    from ..core.restore import restore
+    from ..core.aging.restore import restore
     from ..progress import ProgressBar
 
     with ProgressBar("restore") as bar:
@@ -210,9 +210,9 @@ def _restore(rgb, alpha, info, years, recipe, light, exposure, base, encoding):
 
 def run(args):
     from ..contact_sheet import contact_sheet, thumbnail
-    from ..core.aging import Light, TextureAger, age_image_exact
-    from ..core.colorimetry import srgb_encode
-    from ..core.recipes import RECIPES
+    from ..core.aging.ager import Light, TextureAger, age_image_exact
+    from ..core.colour.colorimetry import srgb_encode
+    from ..core.fading.recipes import RECIPES
     from ..progress import ProgressBar
 
     t_start = time.perf_counter()

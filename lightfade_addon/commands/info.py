@@ -13,7 +13,7 @@ def run(args):
     from importlib.metadata import PackageNotFoundError, version
 
     from .. import __version__
-    from ..core import fading
+    from ..core.fading import model as fading
 
     print(f"lightfade {__version__}")
     for package in ("numpy", "colour-science", "scipy", "OpenImageIO"):

@@ -3,9 +3,9 @@
 The public entry point of the fading model is :func:`simulate` (paper, Section 3).
 """
 
-from .fading import SCHEMES, SimulationResult, simulate, trapezoid_weights
-from .flux import boundary_fluxes, boundary_fluxes_dense, stack_reflectance
-from .kubelka import kubelka_layer, over_ground
+from .fading.model import SCHEMES, SimulationResult, simulate, trapezoid_weights
+from .fading.flux import boundary_fluxes, boundary_fluxes_dense, stack_reflectance
+from .fading.kubelka import kubelka_layer, over_ground
 
 __all__ = [
     "SCHEMES",

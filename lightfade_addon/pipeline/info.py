@@ -12,7 +12,7 @@ import bpy
 
 from .. import api
 from ..blender import stats
-from ..blender.apply import aged_copies
+from ..blender.aging.apply import aged_copies
 from ..blender.bake import (
     LightFadeBakeError,
     StaleExposureError,
@@ -24,7 +24,7 @@ from ..blender.bake import daylight as _daylight_bake
 from ..blender.bake.maps import map_key
 from ..blender.daylight import place as _place
 from ..blender.daylight.doses import material_doses
-from ..blender.parts import describe
+from ..blender.aging.parts import describe
 from ..blender.targets import targets
 
 # ------------------------------------------------------------------------------ queries

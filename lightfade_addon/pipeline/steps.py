@@ -170,7 +170,7 @@ def do_render_years(path, args, say):
 
 
 def do_export_aged(path, args, say):
-    from ..blender.apply import aged_copies, write_aged_file
+    from ..blender.aging.apply import aged_copies, write_aged_file
 
     scene = open_blend(path)
     _bake_if_needed(scene, args, say)

@@ -16,8 +16,8 @@ bpy = pytest.importorskip("bpy")
 import addon_utils  # noqa: E402  (Blender's module, importable once bpy is)
 import numpy as np  # noqa: E402
 
-from lightfade_addon.core.grid import GridSettings  # noqa: E402
-from lightfade_addon.core.tablebuild import TableSettings  # noqa: E402
+from lightfade_addon.core.fading.grid import GridSettings  # noqa: E402
+from lightfade_addon.core.aging.tablebuild import TableSettings  # noqa: E402
 
 ADDON = "lightfade_addon"
 
@@ -43,7 +43,7 @@ COARSE_TABLE = TableSettings(side=9, per_decade=4, grid=GridSettings(points=5))
 def coarse_grid():
     """Every preparation in this process uses :data:`COARSE_GRID` (a process a test starts
     uses the shipped grid unless the test passes it this one)."""
-    from lightfade_addon.blender import agingdata, runtime
+    from lightfade_addon.blender.aging import data as agingdata, runtime
 
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(runtime, "GRID_SETTINGS", COARSE_GRID)

@@ -5,8 +5,12 @@ import hashlib
 import numpy as np
 import pytest
 
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+)
 
 bpy = pytest.importorskip("bpy")
 
@@ -21,16 +25,16 @@ def aged_image(material):
     """Real aged pixels of ``material``'s only aged copy at the scene's years (the numpy
     evaluator of its aging table, which test_material_aging.py checks against the
     material's node group)."""
-    from lightfade_addon.blender.apply import apply_copy
-    from lightfade_addon.blender.copies import copies_of
-    from lightfade_addon.blender.years import get_years
+    from lightfade_addon.blender.aging.apply import apply_copy
+    from lightfade_addon.blender.aging.copies import copies_of
+    from lightfade_addon.blender.aging.years import get_years
 
     (copy,) = copies_of(material)
     return apply_copy(bpy.context.scene, copy, get_years(bpy.context.scene))
 
 
 def the_copy_props(material):
-    from lightfade_addon.blender.copies import copies_of
+    from lightfade_addon.blender.aging.copies import copies_of
 
     (copy,) = copies_of(material)
     return copy.lightfade
@@ -152,7 +156,7 @@ class TestAge:
         tree.links.remove(bsdf.inputs["Base Color"].links[0])
         bsdf.inputs["Base Color"].default_value = (0.1, 0.4, 0.7, 1.0)
         assert bpy.ops.lightfade.age(years=10) == {"FINISHED"}
-        from lightfade_addon.blender.copies import copies_of
+        from lightfade_addon.blender.aging.copies import copies_of
 
         (copy,) = copies_of(mat)
         assert copy.lightfade.path == "FLAT"
@@ -201,7 +205,7 @@ class TestSaveReload:
         mat = bpy.data.materials["Carpet"]
         assert aged_image(mat) is not None and aged_image(mat).packed_file
         np.testing.assert_allclose(rgba(aged_image(mat)), aged_before, atol=1e-6)
-        from lightfade_addon.core import gridbuild
+        from lightfade_addon.core.fading import gridbuild
 
         monkeypatch.setattr(gridbuild, "build_grid", lambda *a, **k: pytest.fail("simulated"))
         bpy.context.scene.lightfade.years = 12            # ager rebuilt from the file's grid
@@ -240,7 +244,7 @@ class TestBadInput:
 
     def test_error_message_names_the_object(self, floor_scene):
         from lightfade_addon.blender.errors import AgingError
-        from lightfade_addon.blender.prepare import age_scene
+        from lightfade_addon.blender.aging.prepare import age_scene
 
         with pytest.raises(AgingError, match="Floor.*Bake Exposure"):
             age_scene(bpy.context.scene, 2)
@@ -248,14 +252,14 @@ class TestBadInput:
     @pytest.mark.parametrize("years", [-1.0, float("nan")])
     def test_negative_or_nan_years(self, carpet, years):
         from lightfade_addon.blender.errors import AgingError
-        from lightfade_addon.blender.prepare import age_scene
+        from lightfade_addon.blender.aging.prepare import age_scene
 
         with pytest.raises(AgingError, match="Years"):
             age_scene(bpy.context.scene, years)
 
     def test_every_problem_is_reported_at_once_before_any_change(self, carpet):
         from lightfade_addon.blender.errors import AgingError
-        from lightfade_addon.blender.prepare import age_scene
+        from lightfade_addon.blender.aging.prepare import age_scene
 
         carpet["box"].data.materials.append(carpet["material"])    # no exposure maps
         node = carpet["material"].node_tree.nodes["Image Texture"]
@@ -271,7 +275,7 @@ class TestBadInput:
 
     def test_missing_images(self, carpet, tmp_path):
         from lightfade_addon.blender.errors import AgingError
-        from lightfade_addon.blender.prepare import age_scene
+        from lightfade_addon.blender.aging.prepare import age_scene
 
         node = carpet["material"].node_tree.nodes["Image Texture"]
         missing = bpy.data.images.new("Missing", 8, 8)
@@ -283,7 +287,7 @@ class TestBadInput:
 
     def test_material_without_nodes_or_nothing_enabled(self, carpet):
         from lightfade_addon.blender.errors import AgingError
-        from lightfade_addon.blender.prepare import age_scene
+        from lightfade_addon.blender.aging.prepare import age_scene
 
         carpet["material"].lightfade.enabled = False
         bpy.ops.object.select_all(action="DESELECT")
@@ -356,7 +360,7 @@ def test_bake_can_report_material_problems_before_cycles(floor_scene):
 
 def test_diffuse_bsdf_colour_is_aged(carpet):
     """A Diffuse BSDF's Color is the colour socket; the image goes the direct way."""
-    from lightfade_addon.blender.copies import copies_of
+    from lightfade_addon.blender.aging.copies import copies_of
 
     mat = carpet["material"]
     tree = mat.node_tree
@@ -400,8 +404,8 @@ def test_only_an_image_colour_through_the_exposure_uv_map_is_read_directly(carpe
 def test_material_settings_become_the_core_recipe_and_history(blender):
     """β is in millionths; the Blue Wool class moves the recipe's weakest dye; the texture's
     history is one light of the given spectrum, filter, lux and hours a day, every day."""
-    from lightfade_addon.blender.runtime import material_prior, material_recipe
-    from lightfade_addon.core.aging import Light, Prior
+    from lightfade_addon.blender.aging.runtime import material_prior, material_recipe
+    from lightfade_addon.core.aging.ager import Light, Prior
 
     s = bpy.data.materials.new("Print").lightfade
     s.blue_wool = 5

@@ -556,7 +556,9 @@ class TestProgressAndCancel:
         from types import SimpleNamespace
 
         from lightfade_addon.blender.bake import ExposureBake
-        from lightfade_addon.blender.operators.bake_exposure import LIGHTFADE_OT_bake_exposure as Op
+        from lightfade_addon.blender.operators.bake_exposure import (
+            LIGHTFADE_OT_bake_exposure as Op,
+        )
 
         lf.add_point()
         floor = floor_scene["floor"]

@@ -16,7 +16,7 @@ import bmesh  # noqa: E402
 from lightfade_addon import api  # noqa: E402
 from lightfade_addon.blender.bake import find_groups  # noqa: E402
 from lightfade_addon.blender.daylight import place as place_mod  # noqa: E402
-from lightfade_addon.core import daylight as core_daylight  # noqa: E402
+from lightfade_addon.core.daylight import annual as core_daylight  # noqa: E402
 
 SKY_WIDTH = 64
 

@@ -6,7 +6,11 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+)
 
 bpy = pytest.importorskip("bpy")
 
@@ -20,7 +24,7 @@ def rgba(image):
 
 
 def the_copy(material):
-    from lightfade_addon.blender.copies import copies_of
+    from lightfade_addon.blender.aging.copies import copies_of
 
     (copy,) = copies_of(material)
     return copy
@@ -82,7 +86,7 @@ class TestNodeGroupAgainstNumpy:
     @pytest.mark.parametrize("spectra", [1, 2])
     def test_texel_centres_agree(self, textured, lf, spectra):
         from lightfade_addon import api
-        from lightfade_addon.blender.apply import aged_pixels
+        from lightfade_addon.blender.aging.apply import aged_pixels
 
         if spectra == 2:                       # a lamp of another spectrum: a light mix
             lamp = lf.add_point(power=400.0, location=(-0.5, -0.5, 1.0))
@@ -101,7 +105,7 @@ class TestNodeGroupAgainstNumpy:
         assert delta_E_2000(lab(numpy), lab(original)).mean() > 2     # a real fade
 
     def test_years_reach_the_group_through_the_scene_property(self, textured):
-        from lightfade_addon.blender.years import YEARS_PROP
+        from lightfade_addon.blender.aging.years import YEARS_PROP
 
         _bake_and_age()
         copy = the_copy(textured["material"])
@@ -255,7 +259,7 @@ def test_eevee_evaluates_the_same_aging(textured, tmp_path):
 def test_apply_then_live_aging_round_trip(textured):
     """Apply writes real images at the scene's years and feeds them in; Live puts the
     group back and removes them; Reset leaves nothing of either behind."""
-    from lightfade_addon.blender.copies import APPLIED_NAME, GROUP_NODE
+    from lightfade_addon.blender.aging.copies import APPLIED_NAME, GROUP_NODE
 
     _bake_and_age(years=12)
     copy = the_copy(textured["material"])
@@ -264,7 +268,7 @@ def test_apply_then_live_aging_round_trip(textured):
     image = copy.lightfade.aged_image
     assert bsdf.inputs["Base Color"].links[0].from_node.name == APPLIED_NAME
     assert image["lightfade_years"] == 12.0
-    from lightfade_addon.blender.apply import aged_pixels
+    from lightfade_addon.blender.aging.apply import aged_pixels
     np.testing.assert_allclose(rgba(image), aged_pixels(bpy.context.scene, copy, 12.0), atol=1e-6)
     assert bpy.ops.lightfade.live_aging() == {"FINISHED"}
     assert bsdf.inputs["Base Color"].links[0].from_node.name == GROUP_NODE
@@ -419,7 +423,7 @@ def test_a_procedural_colour_applies_as_the_group_renders(textured):
     point's colour; Apply to Images bakes that colour (the group muted) and ages it with
     the numpy twin, which agrees with the group at the texel centres."""
     from lightfade_addon import api
-    from lightfade_addon.blender.apply import aged_pixels
+    from lightfade_addon.blender.aging.apply import aged_pixels
 
     tree = textured["material"].node_tree
     image_node = next(n for n in tree.nodes if n.type == "TEX_IMAGE")

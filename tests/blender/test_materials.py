@@ -19,7 +19,11 @@ if str(ROOT) not in sys.path:
 bpy = pytest.importorskip("bpy")
 import addon_utils  # noqa: E402
 
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ  # noqa: E402
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+)  # noqa: E402
 from scenes import materials as M  # noqa: E402
 
 RES = 64
@@ -32,7 +36,7 @@ def lab(rgb):
 def base_colour(obj):
     """(H, W, 3) linear Base Color ``obj`` renders with, baked in its exposure UV map."""
     from lightfade_addon.blender.albedo import bake_albedos
-    from lightfade_addon.blender.copies import assign, make_copy, remove_copy
+    from lightfade_addon.blender.aging.copies import assign, make_copy, remove_copy
     from lightfade_addon.blender.source import find_colour_socket
 
     scene = bpy.context.scene

@@ -16,10 +16,14 @@ bpy = pytest.importorskip("bpy")
 from bpy_extras.object_utils import world_to_camera_view  # noqa: E402
 from mathutils import Vector  # noqa: E402
 
-from lightfade_addon.core.aging import TextureAger  # noqa: E402
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ  # noqa: E402
-from lightfade_addon.core.lights import Light  # noqa: E402
-from lightfade_addon.core.recipes import get_recipe  # noqa: E402
+from lightfade_addon.core.aging.ager import TextureAger  # noqa: E402
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+)  # noqa: E402
+from lightfade_addon.core.fading.lights import Light  # noqa: E402
+from lightfade_addon.core.fading.recipes import get_recipe  # noqa: E402
 from scenes import demo  # noqa: E402
 from scenes import materials as M  # noqa: E402
 

@@ -76,7 +76,7 @@ def test_panels_draw(floor_scene, lf):
 def test_material_panel_says_each_colourants_class(floor_scene):
     """The material panel shows the recipe's description and each colourant's class as
     the Blue Wool setting shifts them (printed paper at 2: yellow 2, magenta 2.5, cyan 4)."""
-    from lightfade_addon.core.recipes import RECIPES
+    from lightfade_addon.core.fading.recipes import RECIPES
 
     mat = floor_scene["material"]
     mat.lightfade.enabled = True

@@ -8,8 +8,11 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, \
-    linear_srgb_to_XYZ  # noqa: E402
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+)  # noqa: E402
 
 N = 16
 #: Key texels well inside the left half (u < 0.5) and the right; Cycles' bake samples
@@ -26,8 +29,8 @@ def node_evaluation(copy):
     """(H, W, 3) the copy's Base Color as Cycles evaluates it at the key texels' centres
     (an Emission bake in the exposure UV map; as in test_material_aging)."""
     from lightfade_addon.blender.albedo import bake_albedos
-    from lightfade_addon.blender.apply import original_pixels
-    from lightfade_addon.blender.parts import colour_socket
+    from lightfade_addon.blender.aging.apply import original_pixels
+    from lightfade_addon.blender.aging.parts import colour_socket
 
     H, W = original_pixels(bpy.context.scene, copy).shape[:2]
     image = bpy.data.images.new("NodeEvaluation", W, H, alpha=True, float_buffer=True)
@@ -95,7 +98,7 @@ def sofa(floor_scene):
 
 
 def _copy(material):
-    from lightfade_addon.blender.copies import copies_of
+    from lightfade_addon.blender.aging.copies import copies_of
 
     (copy,) = copies_of(material)
     return copy
@@ -111,7 +114,7 @@ def _age(years=20.0):
 
 
 def _twin(material, years):
-    from lightfade_addon.blender.apply import aged_pixels
+    from lightfade_addon.blender.aging.apply import aged_pixels
 
     return aged_pixels(bpy.context.scene, _copy(material), years)[..., :3]
 
@@ -382,7 +385,7 @@ def test_info_apply_and_a_rebake_with_parts(sofa):
     """info lists the parts; Apply to Images writes the twin's pixels; a re-bake (the sun
     moved) reaches every recipe's group without Age, as for any copy."""
     from lightfade_addon import api
-    from lightfade_addon.blender.apply import aged_pixels
+    from lightfade_addon.blender.aging.apply import aged_pixels
     from lightfade_addon.pipeline.info import as_text, gather
 
     material = sofa["material"]
@@ -517,7 +520,7 @@ def test_removing_a_copy_of_an_aged_copy_keeps_the_aged_copys_parts(sofa):
     """A copy of an aged copy (a user's duplicate) shares its mixing group, recipe groups
     and weights: removing the duplicate leaves the aged copy whole."""
     from lightfade_addon import api
-    from lightfade_addon.blender.parts import _lane_groups
+    from lightfade_addon.blender.aging.parts import _lane_groups
     from lightfade_addon.blender.reset import remove_aged
 
     material = sofa["material"]

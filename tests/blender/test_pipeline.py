@@ -427,7 +427,7 @@ def test_export_aged_writes_one_image_per_material(lightfade, work):
     png, exr = (bpy.data.images.load(str(work / "tex" / n)) for n in names[::-1])
     a, b = _rgba(png)[..., :3], _rgba(exr)[..., :3]
     assert exr.is_float and not png.is_float
-    from lightfade_addon.core.colorimetry import srgb_encode
+    from lightfade_addon.core.colour.colorimetry import srgb_encode
     assert np.abs(srgb_encode(np.clip(b, 0, 1)) - a).max() <= 1 / 255 + 1e-6
     assert (work / "good.blend").read_bytes() == before and leftovers(work) == []
     assert not_ours(proc.stdout + proc.stderr) == []

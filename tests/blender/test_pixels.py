@@ -5,9 +5,13 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from lightfade_addon.blender.pixels import (  # noqa: E402
-    read_linear, read_rgba, readable_colourspace, resample)
-from lightfade_addon.core.colorimetry import srgb_decode  # noqa: E402
+from lightfade_addon.blender.pixels import (
+    read_linear,
+    read_rgba,
+    readable_colourspace,
+    resample,
+)
+from lightfade_addon.core.colour.colorimetry import srgb_decode  # noqa: E402
 
 
 class TestResample:

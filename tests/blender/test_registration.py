@@ -98,7 +98,7 @@ class TestOneVocabulary:
     """The UI's words and defaults are the core's tables, as registered in Blender."""
 
     def test_spectra_are_the_core_lights_with_their_descriptions(self, blender):
-        from lightfade_addon.core.spectra import LIGHTS
+        from lightfade_addon.core.fading.spectra import LIGHTS
 
         items = _enum(bpy.data.lights.new("L", "SPOT").lightfade, "spectrum")
         assert list(items) == ["AUTO"] + [n.upper().replace("-", "_") for n in LIGHTS]
@@ -107,7 +107,7 @@ class TestOneVocabulary:
         assert LIGHTS["daylight-glass"] in items["AUTO"][1] and LIGHTS["led"] in items["AUTO"][1]
 
     def test_recipes_are_the_core_recipes_with_their_descriptions(self, blender):
-        from lightfade_addon.core.recipes import RECIPES
+        from lightfade_addon.core.fading.recipes import RECIPES
 
         items = _enum(bpy.data.materials.new("M").lightfade, "recipe")
         assert list(items) == [n.upper().replace("-", "_") for n in RECIPES]
@@ -116,7 +116,7 @@ class TestOneVocabulary:
 
     def test_every_emitter_kind_resolves_to_a_core_light(self, blender):
         from lightfade_addon.blender.properties import EMITTER_KIND_ITEMS, resolve_spectrum
-        from lightfade_addon.core.spectra import LIGHTS
+        from lightfade_addon.core.fading.spectra import LIGHTS
 
         light = bpy.data.lights.new("L", "POINT")
         kinds = [kind for kind, *_ in EMITTER_KIND_ITEMS]
@@ -129,7 +129,7 @@ class TestOneVocabulary:
             assert {resolve_spectrum(light.lightfade, kind) for kind in kinds} == {name}
 
     def test_schedule_defaults_are_the_core_light_defaults(self, blender):
-        from lightfade_addon.core.aging import Light
+        from lightfade_addon.core.aging.ager import Light
 
         core = Light()
         for sched in (bpy.data.lights.new("L", "SPOT").lightfade,
@@ -144,7 +144,7 @@ class TestOneVocabulary:
         assert not bpy.data.objects.new("O2", None).lightfade_emitter.enabled
 
     def test_a_recipe_brings_its_weakest_blue_wool_class(self, blender):
-        from lightfade_addon.core.recipes import RECIPES
+        from lightfade_addon.core.fading.recipes import RECIPES
 
         m = bpy.data.materials.new("M").lightfade
         weakest = {n: min(k for k in r.blue_wool if k is not None) for n, r in RECIPES.items()}

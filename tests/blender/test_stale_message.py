@@ -6,7 +6,7 @@ import bpy
 
 def test_a_stale_material_says_press_age_and_age_is_what_refreshes_it(floor_scene):
     from lightfade_addon import api
-    from lightfade_addon.blender.apply import REFRESH
+    from lightfade_addon.blender.aging.apply import REFRESH
 
     scene = bpy.context.scene
     floor_scene["sun"].data.energy = 30.0

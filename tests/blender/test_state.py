@@ -18,15 +18,15 @@ def rgba(image):
 
 
 def the_copy(material):
-    from lightfade_addon.blender.copies import copies_of
+    from lightfade_addon.blender.aging.copies import copies_of
 
     (copy,) = copies_of(material)
     return copy
 
 
 def aged(material):
-    from lightfade_addon.blender.apply import apply_copy
-    from lightfade_addon.blender.years import get_years
+    from lightfade_addon.blender.aging.apply import apply_copy
+    from lightfade_addon.blender.aging.years import get_years
 
     return rgba(apply_copy(bpy.context.scene, the_copy(material), get_years(bpy.context.scene)))
 
@@ -53,7 +53,11 @@ def make_carpet(floor_scene):
 
 def dE(a, b):
     """CIEDE2000 per texel between two linear RGBA images."""
-    from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ
+    from lightfade_addon.core.colour.colorimetry import (
+        XYZ_to_Lab,
+        delta_E_2000,
+        linear_srgb_to_XYZ,
+    )
 
     def lab(x):
         return XYZ_to_Lab(linear_srgb_to_XYZ(x[..., :3].reshape(-1, 3).astype(float)))
@@ -62,7 +66,7 @@ def dE(a, b):
 
 
 def grids(scene):
-    from lightfade_addon.blender.grids import SceneGridStore
+    from lightfade_addon.blender.aging.grids import SceneGridStore
 
     return len(SceneGridStore(scene))
 
@@ -99,7 +103,7 @@ class TestStale:
 
     def test_every_sensitivity_and_history_setting_is_in_the_signature(self, floor_scene):
         """Any change to how the material fades makes its aged copy stale."""
-        from lightfade_addon.blender import runtime
+        from lightfade_addon.blender.aging import runtime
 
         scene, mat = bpy.context.scene, floor_scene["material"]
         copy = mat.copy()
@@ -120,7 +124,7 @@ class TestStale:
 class TestYears:
     def test_huge_years_keep_ordinary_years_exact_and_prepare_nothing(self, carpet):
         from lightfade_addon import api
-        from lightfade_addon.blender.apply import update_scene
+        from lightfade_addon.blender.aging.apply import update_scene
 
         scene = bpy.context.scene
         api.age_scene(scene, years=20)
@@ -241,8 +245,8 @@ def test_the_slider_runs_no_aging_code(carpet, monkeypatch):
     """A years change is one write of the scene's custom property: nothing is prepared,
     no pixel is written (the material evaluates the years)."""
     from lightfade_addon import api
-    from lightfade_addon.blender import apply, runtime
-    from lightfade_addon.blender.years import YEARS_PROP
+    from lightfade_addon.blender.aging import apply, runtime
+    from lightfade_addon.blender.aging.years import YEARS_PROP
 
     scene = bpy.context.scene
     api.age_scene(scene, years=1)
@@ -264,7 +268,7 @@ def test_select_all_ages_only_ticked_materials(carpet):
     bpy.ops.lightfade.bake_exposure()
     bpy.ops.object.select_all(action="SELECT")
     assert bpy.ops.lightfade.age(years=2) == {"FINISHED"}
-    from lightfade_addon.blender.copies import copies_of
+    from lightfade_addon.blender.aging.copies import copies_of
 
     assert [c.lightfade.source for c in copies_of()] == [mat]
 
@@ -320,8 +324,12 @@ class TestAlreadyOld:
         assert np.median(dE(new, photo)) > 1.0
         assert np.isfinite(new).all() and new.min() >= 0.0 and new.max() <= 1.0
         # the texture's own history, replayed on the estimate, gives the photograph back
-        from lightfade_addon.blender.runtime import GRID_SETTINGS, material_prior, material_recipe
-        from lightfade_addon.core.aging import TextureAger
+        from lightfade_addon.blender.aging.runtime import (
+            GRID_SETTINGS,
+            material_prior,
+            material_recipe,
+        )
+        from lightfade_addon.core.aging.ager import TextureAger
 
         prior = material_prior(mat)
         replay = TextureAger(new[..., :3], material_recipe(mat), list(prior.lights), None,
@@ -345,12 +353,12 @@ sys.path.insert(0, {root!r})
 bpy.ops.wm.open_mainfile(filepath={path!r})
 addon_utils.enable("lightfade_addon", default_set=True)
 from lightfade_addon import api
-from lightfade_addon.blender import runtime
-from lightfade_addon.blender.copies import copies_of
-from lightfade_addon.core.grid import GridSettings
+from lightfade_addon.blender.aging import runtime
+from lightfade_addon.blender.aging.copies import copies_of
+from lightfade_addon.core.fading.grid import GridSettings
 runtime.GRID_SETTINGS = {grid!r}          # the grid this test process uses
 api.set_years(bpy.context.scene, {years!r})
-from lightfade_addon.blender.apply import apply_copy
+from lightfade_addon.blender.aging.apply import apply_copy
 image = apply_copy(bpy.context.scene, copies_of()[0], {years!r})
 a = np.empty(len(image.pixels), np.float32)
 image.pixels.foreach_get(a)
@@ -371,7 +379,7 @@ def fresh_process(request, lf, early_jobs, tmp_path_factory):
                for item in request.session.items):
         return None
     from lightfade_addon import api
-    from lightfade_addon.blender import runtime
+    from lightfade_addon.blender.aging import runtime
 
     folder = tmp_path_factory.mktemp("fresh")
     path, out = folder / "fresh.blend", folder / "fresh.npy"
@@ -415,7 +423,7 @@ def test_a_stale_copy_says_age_everywhere_and_age_refreshes_it(carpet):
     assert status.startswith("stale:") and status.endswith("press Age")
     assert any(status in line for line in stale(scene))
     lines = []
-    from lightfade_addon.blender.apply import update_scene
+    from lightfade_addon.blender.aging.apply import update_scene
 
     update_scene(scene, 7.0, report=lines.append)
     (line,) = lines

@@ -16,7 +16,7 @@ def _years_at(scene, frame):
 
 
 def _curve(scene):
-    from lightfade_addon.blender.years import years_fcurve
+    from lightfade_addon.blender.aging.years import years_fcurve
 
     return years_fcurve(scene)
 

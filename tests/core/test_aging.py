@@ -3,10 +3,14 @@
 import numpy as np
 import pytest
 
-from lightfade_addon.core.aging import Light, TextureAger, age_image, age_image_exact
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
-from lightfade_addon.core.grid import GridSettings
+from lightfade_addon.core.aging.ager import Light, TextureAger, age_image, age_image_exact
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+)
+from lightfade_addon.core.fading.grid import GridSettings
 
 SUN = Light("daylight-glass", lux=3000, hours_per_day=8)
 LAMP = Light("incandescent", lux=300, hours_per_day=5)

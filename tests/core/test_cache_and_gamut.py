@@ -3,12 +3,17 @@
 import numpy as np
 import pytest
 
-from lightfade_addon.core import cache
-from lightfade_addon.core.colorimetry import linear_srgb_to_XYZ
-from lightfade_addon.core.gamut import LUMA, into_gamut, into_gamut_planes, out_of_gamut
-from lightfade_addon.core.grid import GridSettings
-from lightfade_addon.core.recipes import RECIPES
-from lightfade_addon.core.spectra import light_spectrum
+from lightfade_addon.core.fading import cache
+from lightfade_addon.core.colour.colorimetry import linear_srgb_to_XYZ
+from lightfade_addon.core.colour.gamut import (
+    LUMA,
+    into_gamut,
+    into_gamut_planes,
+    out_of_gamut,
+)
+from lightfade_addon.core.fading.grid import GridSettings
+from lightfade_addon.core.fading.recipes import RECIPES
+from lightfade_addon.core.fading.spectra import light_spectrum
 
 
 class TestCacheDirectory:

@@ -1,10 +1,10 @@
-"""Tests for lightfade_addon.core.colorimetry."""
+"""Tests for lightfade_addon.core.colour.colorimetry."""
 
 import colour
 import numpy as np
 import pytest
 
-from lightfade_addon.core.colorimetry import (
+from lightfade_addon.core.colour.colorimetry import (
     XYZ_to_Lab,
     XYZ_to_linear_srgb,
     delta_E_2000,
@@ -19,7 +19,7 @@ from lightfade_addon.core.colorimetry import (
     white_XYZ,
     xyz_weights,
 )
-from lightfade_addon.core.spectra import WAVELENGTHS
+from lightfade_addon.core.fading.spectra import WAVELENGTHS
 
 CMFS = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
 FINE = np.arange(360.0, 831.0)

@@ -1,10 +1,10 @@
-"""Tests for lightfade_addon.core.colourants: data format, loaders, bundled data."""
+"""Tests for lightfade_addon.core.fading.colourants: data format, loaders, bundled data."""
 
 import numpy as np
 import pytest
 
-from lightfade_addon.core.colorimetry import delta_E_ab, reflectance_to_Lab
-from lightfade_addon.core.colourants import (
+from lightfade_addon.core.colour.colorimetry import delta_E_ab, reflectance_to_Lab
+from lightfade_addon.core.fading.colourants import (
     FORMAT_LINE,
     Colourant,
     Substrate,
@@ -14,8 +14,8 @@ from lightfade_addon.core.colourants import (
     save_colourant,
     save_substrate,
 )
-from lightfade_addon.core.kubelka import kubelka_layer, over_ground
-from lightfade_addon.core.spectra import WAVELENGTHS
+from lightfade_addon.core.fading.kubelka import kubelka_layer, over_ground
+from lightfade_addon.core.fading.spectra import WAVELENGTHS
 
 COLOURANTS = ["cyan", "extractive", "lignin", "magenta", "quinone", "yellow"]
 SUBSTRATES = ["fabric", "paper", "white-ground", "wood"]

@@ -1,20 +1,31 @@
-"""The colour-cube aging table: building it (core/tablebuild.py), its numpy evaluator and
-the atlas image the node group reads (core/colourtable.py)."""
+"""The colour-cube aging table: building it (core/aging/tablebuild.py), its numpy evaluator and
+the atlas image the node group reads (core/aging/colourtable.py)."""
 
 import numpy as np
 import pytest
 
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_encode)
-from lightfade_addon.core.colourtable import (
-    ColourTable, atlas_layout, atlas_pixels, cube_colours, dose_nodes, dose_position, evaluate,
-    table_from_atlas)
-from lightfade_addon.core.exact import age_image_exact
-from lightfade_addon.core.grid import GridSettings
-from lightfade_addon.core.lights import Light
-from lightfade_addon.core.recipes import get_recipe
-from lightfade_addon.core.restore import Prior
-from lightfade_addon.core.tablebuild import TableSettings, build_table, load_or_build
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_encode,
+)
+from lightfade_addon.core.aging.colourtable import (
+    ColourTable,
+    atlas_layout,
+    atlas_pixels,
+    cube_colours,
+    dose_nodes,
+    dose_position,
+    evaluate,
+    table_from_atlas,
+)
+from lightfade_addon.core.fading.exact import age_image_exact
+from lightfade_addon.core.fading.grid import GridSettings
+from lightfade_addon.core.fading.lights import Light
+from lightfade_addon.core.fading.recipes import get_recipe
+from lightfade_addon.core.aging.restore import Prior
+from lightfade_addon.core.aging.tablebuild import TableSettings, build_table, load_or_build
 
 SMALL = TableSettings(side=5, per_decade=4, grid=GridSettings(points=5))
 LIGHT = Light("daylight", False, 3000.0, 8.9, 365.0)
@@ -88,7 +99,7 @@ class TestEvaluate:
         exact = age_image_exact(srgb_encode(rgb)[None], [5, 25], "printed-paper", LIGHT)
         for years, ref in zip((5, 25), exact):
             ours = srgb_encode(evaluate(table, rgb, rates, years))
-            from lightfade_addon.core.colorimetry import srgb_decode
+            from lightfade_addon.core.colour.colorimetry import srgb_decode
             assert delta_E_2000(lab(srgb_decode(ours)), lab(srgb_decode(ref[0]))).max() < limit
 
     def test_two_spectra_all_from_one_is_that_spectrum_alone(self):
@@ -136,7 +147,8 @@ class TestAtlas:
 
 
 def test_tables_are_kept_on_disk(tmp_path, monkeypatch):
-    from lightfade_addon.core import cache, tablebuild
+    from lightfade_addon.core.fading import cache
+    from lightfade_addon.core.aging import tablebuild
 
     monkeypatch.setattr(cache, "_directory", tmp_path)
     recipe = get_recipe("dyed-fabric")

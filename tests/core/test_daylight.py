@@ -6,9 +6,9 @@ import dataclasses
 import numpy as np
 import pytest
 
-from lightfade_addon.core import daylight as dl
-from lightfade_addon.core import skygrid, skymap, skysamples
-from lightfade_addon.core.daylight import PLACES, Place, annual_sky_map, plane_dose
+from lightfade_addon.core.daylight import annual as dl
+from lightfade_addon.core.daylight import skygrid, skymap, skysamples
+from lightfade_addon.core.daylight.annual import PLACES, Place, annual_sky_map, plane_dose
 
 WIDTH = 64  # coarse maps keep the tests quick; the physics does not depend on the width
 
@@ -228,7 +228,7 @@ class TestSunPosition:
 
 class TestClearSky:
     def test_ineichen_matches_pvlib(self, pvlib):
-        from lightfade_addon.core.clearsky import clearsky_Ineichen2002
+        from lightfade_addon.core.daylight.clearsky import clearsky_Ineichen2002
 
         z = np.linspace(0, 89.9, 200)
         tl = np.linspace(2, 6, 200)
@@ -243,7 +243,7 @@ class TestClearSky:
 
 class TestPerez:
     def test_sky_diffuse_on_planes_matches_pvlib(self, pvlib):
-        from lightfade_addon.core import perez
+        from lightfade_addon.core.daylight import perez
 
         rng = np.random.default_rng(1)
         n = 500
@@ -265,7 +265,7 @@ class TestPerez:
             np.testing.assert_allclose(np.maximum(ours, 0), ref, rtol=1e-9, atol=1e-9)
 
     def test_efficacy_bounds(self):
-        from lightfade_addon.core import perez
+        from lightfade_addon.core.daylight import perez
 
         # a clear high sun (ε bin 8) and an overcast sky (bin 1), W = 2 cm
         K_b, K_d = perez.luminous_efficacy(np.array([8.0, 1.02]), np.array([0.12, 0.3]),
@@ -278,7 +278,7 @@ class TestPerez:
 
 class TestWeatherFiles:
     def test_tmy3_matches_pvlib_reader(self, pvlib, pvlib_data):
-        from lightfade_addon.core.weather import read_weather
+        from lightfade_addon.core.daylight.weather import read_weather
 
         path = pvlib_data / "723170TYA.CSV"
         ref, meta = pvlib.iotools.read_tmy3(path, coerce_year=2025, map_variables=True)
@@ -292,7 +292,7 @@ class TestWeatherFiles:
         assert wx.times[0] == np.datetime64("2025-01-01T06:00:00")
 
     def test_tmy2_matches_pvlib_reader(self, pvlib, pvlib_data):
-        from lightfade_addon.core.weather import read_weather
+        from lightfade_addon.core.daylight.weather import read_weather
 
         path = pvlib_data / "12839.tm2"
         ref, meta = pvlib.iotools.read_tmy2(path)
@@ -308,7 +308,7 @@ class TestWeatherFiles:
 
     def test_epw_matches_pvlib_reader(self, pvlib, pvlib_data, tmp_path):
         # pvlib ships no EPW: write the TMY3 file's first two days as one, read it both ways
-        from lightfade_addon.core.weather import read_tmy3, read_weather
+        from lightfade_addon.core.daylight.weather import read_tmy3, read_weather
 
         src = read_tmy3(pvlib_data / "723170TYA.CSV")
         header = ["LOCATION,GREENSBORO,NC,USA,TMY3,723170,36.10,-79.95,-5.0,273.0",
@@ -333,7 +333,7 @@ class TestWeatherFiles:
         assert wx.times[0] == np.datetime64("2025-01-01T06:00:00")
 
     def test_unknown_file_is_a_clear_error(self, tmp_path):
-        from lightfade_addon.core.weather import WeatherFileError, read_weather
+        from lightfade_addon.core.daylight.weather import WeatherFileError, read_weather
 
         p = tmp_path / "x.txt"
         p.write_text("hello")
@@ -385,7 +385,7 @@ class TestPerez1993:
     """The all-weather distribution (``sky="Perez1993"``) on a subset of London's samples."""
 
     def test_normalised_to_the_diffuse_horizontal_dose(self, few):
-        from lightfade_addon.core.allweather import diffuse_sky_Perez1993
+        from lightfade_addon.core.daylight.allweather import diffuse_sky_Perez1993
 
         w = few.dhi * few.hours
         part = diffuse_sky_Perez1993(few, w, 32, 0.0)
@@ -394,7 +394,7 @@ class TestPerez1993:
         assert part.min() >= 0
 
     def test_a_sky_dark_everywhere_is_spread_isotropically(self, few):
-        from lightfade_addon.core.allweather import diffuse_sky_Perez1993
+        from lightfade_addon.core.daylight.allweather import diffuse_sky_Perez1993
 
         # an overcast, very bright sky with the sun on the horizon (a Greensboro TMY3 hour):
         # the model's luminance is negative over the whole sky
@@ -407,7 +407,10 @@ class TestPerez1993:
         assert np.allclose(part, part[0, 0])
 
     def test_clear_sky_is_brightest_round_the_sun_and_overcast_at_the_zenith(self):
-        from lightfade_addon.core.allweather import perez1993_parameters, relative_luminance_Perez1993
+        from lightfade_addon.core.daylight.allweather import (
+            perez1993_parameters,
+            relative_luminance_Perez1993,
+        )
 
         clear = perez1993_parameters(8.0, 0.15, 40.0)
         near_sun = relative_luminance_Perez1993(clear, np.cos(np.radians(45)), np.radians(5))

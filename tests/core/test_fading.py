@@ -5,7 +5,7 @@ import pytest
 from scipy.integrate import trapezoid
 
 from lightfade_addon.core import boundary_fluxes, kubelka_layer, over_ground, simulate
-from lightfade_addon.core.layered import LayeredStack, trapezoid_weights
+from lightfade_addon.core.fading.layered import LayeredStack, trapezoid_weights
 
 from .conftest import run
 
@@ -267,8 +267,8 @@ class TestValidation:
 
 class TestThinLayerSeries:
     def test_series_equals_closed_form_below_the_threshold(self):
-        from lightfade_addon.core.kubelka import kubelka_layer
-        from lightfade_addon.core.layered import THIN_LAYER_Y, kubelka_into
+        from lightfade_addon.core.fading.kubelka import kubelka_layer
+        from lightfade_addon.core.fading.layered import THIN_LAYER_Y, kubelka_into
 
         rng = np.random.default_rng(9)
         Kd = np.concatenate([rng.uniform(0, 0.03, 4000), [0.0, 1e-12]])

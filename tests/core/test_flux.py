@@ -3,8 +3,12 @@
 import numpy as np
 import pytest
 
-from lightfade_addon.core.flux import boundary_fluxes, boundary_fluxes_dense, stack_reflectance
-from lightfade_addon.core.kubelka import kubelka_layer, over_ground
+from lightfade_addon.core.fading.flux import (
+    boundary_fluxes,
+    boundary_fluxes_dense,
+    stack_reflectance,
+)
+from lightfade_addon.core.fading.kubelka import kubelka_layer, over_ground
 
 
 def random_stack(rng, N, shape=()):

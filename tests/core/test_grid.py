@@ -8,20 +8,29 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, reflectance_to_XYZ
-from lightfade_addon.core import cache
-from lightfade_addon.core.cache import load_or_build
-from lightfade_addon.core.grid import GridSettings
-from lightfade_addon.core.gridbuild import build_grid
-from lightfade_addon.core.gridfile import grid_from_bytes, grid_to_bytes
-from lightfade_addon.core.aging import TextureAger
-from lightfade_addon.core.lattice import (
-    concentration_axis, dose_axis, dose_index, grid_max_dose, mix_lattice,
-    simplex_interpolation)
-from lightfade_addon.core.lights import Light
-from lightfade_addon.core.recipes import RECIPES
-from lightfade_addon.core.spectra import WAVELENGTHS as LAM, light_spectrum
-from lightfade_addon.core.unmix import get_unmixer
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    reflectance_to_XYZ,
+)
+from lightfade_addon.core.fading import cache
+from lightfade_addon.core.fading.cache import load_or_build
+from lightfade_addon.core.fading.grid import GridSettings
+from lightfade_addon.core.fading.gridbuild import build_grid
+from lightfade_addon.core.fading.gridfile import grid_from_bytes, grid_to_bytes
+from lightfade_addon.core.aging.ager import TextureAger
+from lightfade_addon.core.fading.lattice import (
+    concentration_axis,
+    dose_axis,
+    dose_index,
+    grid_max_dose,
+    mix_lattice,
+    simplex_interpolation,
+)
+from lightfade_addon.core.fading.lights import Light
+from lightfade_addon.core.fading.recipes import RECIPES
+from lightfade_addon.core.fading.spectra import WAVELENGTHS as LAM, light_spectrum
+from lightfade_addon.core.fading.unmix import get_unmixer
 
 PAPER = RECIPES["printed-paper"]
 DAYLIGHT = light_spectrum("daylight-glass")[None]
@@ -182,10 +191,10 @@ class TestCache:
 def two_processes_build_one_grid(jobs, folder):
     """Two processes build the same grid into one cache folder at the same time.  An
     early job (tests/conftest.py): it runs beside the tests before this one."""
-    code = ("from lightfade_addon.core.cache import load_or_build;"
-            "from lightfade_addon.core.grid import GridSettings;"
-            "from lightfade_addon.core.recipes import RECIPES;"
-            "from lightfade_addon.core.spectra import light_spectrum;"
+    code = ("from lightfade_addon.core.fading.cache import load_or_build;"
+            "from lightfade_addon.core.fading.grid import GridSettings;"
+            "from lightfade_addon.core.fading.recipes import RECIPES;"
+            "from lightfade_addon.core.fading.spectra import light_spectrum;"
             "load_or_build(RECIPES['printed-paper'], light_spectrum('daylight')[None], 2e6,"
             " GridSettings(points=4, doses=9))")
     env = dict(os.environ, LIGHTFADE_CACHE=str(folder))
@@ -208,7 +217,7 @@ def test_store_is_used_before_building(tmp_path, monkeypatch):
     settings = GridSettings(points=3, doses=5)
     g = load_or_build(PAPER, DAYLIGHT, 3e6, settings, cache=False, store=store)
     assert list(store) == [g.key]
-    from lightfade_addon.core import gridbuild
+    from lightfade_addon.core.fading import gridbuild
 
     monkeypatch.setattr(gridbuild, "build_grid", lambda *a, **k: pytest.fail("rebuilt"))
     g2 = load_or_build(PAPER, DAYLIGHT, 3e6, settings, cache=False, store=store)

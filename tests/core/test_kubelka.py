@@ -3,7 +3,11 @@
 import numpy as np
 import pytest
 
-from lightfade_addon.core.kubelka import kubelka_layer, kubelka_layer_reference, over_ground
+from lightfade_addon.core.fading.kubelka import (
+    kubelka_layer,
+    kubelka_layer_reference,
+    over_ground,
+)
 
 
 class TestKubelkaLayer:

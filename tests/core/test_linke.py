@@ -5,9 +5,9 @@ interpolation, and agreement with pvlib's own lookup and Perez wall doses."""
 import numpy as np
 import pytest
 
-from lightfade_addon.core import clearsky
-from lightfade_addon.core.clearsky import CLIMATOLOGY_FILE, linke_turbidity
-from lightfade_addon.core.daylight import Place, annual_sky_map, plane_dose
+from lightfade_addon.core.daylight import clearsky
+from lightfade_addon.core.daylight.clearsky import CLIMATOLOGY_FILE, linke_turbidity
+from lightfade_addon.core.daylight.annual import Place, annual_sky_map, plane_dose
 
 MONTHS = np.arange(1, 13)
 #: Away from every preset: Berlin, Denver (1609 m), Sydney (southern hemisphere).

@@ -14,8 +14,12 @@ per-texel exposure ranges to benchmarks/photos.py).
 import numpy as np
 import pytest
 
-from lightfade_addon.core.aging import Light, TextureAger, age_image_exact
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ
+from lightfade_addon.core.aging.ager import Light, TextureAger, age_image_exact
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+)
 
 FRACTIONS = np.array([0.0, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0])
 

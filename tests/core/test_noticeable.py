@@ -3,10 +3,14 @@
 import numpy as np
 import pytest
 
-from lightfade_addon.core.aging import Light, TextureAger
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ
-from lightfade_addon.core.grid import GridSettings
-from lightfade_addon.core.noticeable import years_to_noticeable
+from lightfade_addon.core.aging.ager import Light, TextureAger
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+)
+from lightfade_addon.core.fading.grid import GridSettings
+from lightfade_addon.core.aging.noticeable import years_to_noticeable
 
 COARSE = GridSettings(points=5, doses=17, mix=2)
 

@@ -10,10 +10,15 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from lightfade_addon.core.aging import Light, age_image_exact
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, delta_E_ab, linear_srgb_to_XYZ, srgb_decode)
-from lightfade_addon.core.recipes import RECIPES
+from lightfade_addon.core.aging.ager import Light, age_image_exact
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    delta_E_ab,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+)
+from lightfade_addon.core.fading.recipes import RECIPES
 
 LIGHT = Light("daylight-glass", False, 2000.0, 8.0, 365.0)
 YEARS = np.concatenate([[0.0], np.geomspace(0.05, 1500.0, 70)])

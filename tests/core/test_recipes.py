@@ -5,11 +5,22 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from lightfade_addon.core.colorimetry import delta_E_ab, reflectance_to_Lab
-from lightfade_addon.core.spectra import WAVELENGTHS, light_spectrum
-from lightfade_addon.core.calibration import MATCHING_LIGHT, RATE_REFERENCE, _calibration_fade
-from lightfade_addon.core.recipes import (
-    JND_DELTA_E, RECIPES, Recipe, blue_wool_dose, fastness_text, get_recipe, matched_rates)
+from lightfade_addon.core.colour.colorimetry import delta_E_ab, reflectance_to_Lab
+from lightfade_addon.core.fading.spectra import WAVELENGTHS, light_spectrum
+from lightfade_addon.core.fading.calibration import (
+    MATCHING_LIGHT,
+    RATE_REFERENCE,
+    _calibration_fade,
+)
+from lightfade_addon.core.fading.recipes import (
+    JND_DELTA_E,
+    RECIPES,
+    Recipe,
+    blue_wool_dose,
+    fastness_text,
+    get_recipe,
+    matched_rates,
+)
 
 
 class TestBlueWoolDose:
@@ -128,7 +139,7 @@ class TestCalibration:
         assert without_uv > 3 * with_uv        # behind a UV filter it needs far more beta
 
     def test_a_colourant_that_cannot_fade_is_refused(self, monkeypatch):
-        from lightfade_addon.core import calibration
+        from lightfade_addon.core.fading import calibration
 
         monkeypatch.setattr(calibration, "_calibration_fade", lambda *a: 0.0)
         r = replace(RECIPES["printed-paper"], name="inert-test")

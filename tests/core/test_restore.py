@@ -6,12 +6,16 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from lightfade_addon.core.aging import Light, Prior, TextureAger
-from lightfade_addon.core.grid import GridSettings
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
-from lightfade_addon.core.recipes import RECIPES
-from lightfade_addon.core.restore import restore
+from lightfade_addon.core.aging.ager import Light, Prior, TextureAger
+from lightfade_addon.core.fading.grid import GridSettings
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+)
+from lightfade_addon.core.fading.recipes import RECIPES
+from lightfade_addon.core.aging.restore import restore
 
 LIGHT = Light("daylight-glass", lux=1000)
 #: A fugitive print (yellow Blue Wool 2, magenta 2.5, cyan 4): fades enough in a few
@@ -68,8 +72,8 @@ def test_lost_pixels_are_reported_after_a_total_fade(image):
 
 def magentas(recipe=PRINT):
     """Two magenta inks of the recipe, ΔE00 > 10 apart when new (encoded sRGB, (1, 2, 3))."""
-    from lightfade_addon.core.colorimetry import XYZ_to_linear_srgb, srgb_encode
-    from lightfade_addon.core.unmix import get_unmixer
+    from lightfade_addon.core.colour.colorimetry import XYZ_to_linear_srgb, srgb_encode
+    from lightfade_addon.core.fading.unmix import get_unmixer
 
     unmixer = get_unmixer(recipe)
     XYZ = unmixer.XYZ(np.array([[0.02, 0.35, 0.02], [0.02, 0.7, 0.02]]))
@@ -135,7 +139,7 @@ def test_more_colours_than_the_budget_are_solved_per_8_bit_colour(monkeypatch):
     """A float photograph with more distinct colours than aging unmixes one by one is
     solved once per 8-bit colour (as many solves as those), each texel keeping its own
     detail: the same restoration as solving every colour."""
-    from lightfade_addon.core import texels
+    from lightfade_addon.core.aging import texels
 
     rng = np.random.default_rng(3)
     img = np.clip(hopper() + rng.normal(0, 0.004, (100, 86, 3)), 0, 1).astype(np.float32)
@@ -221,7 +225,7 @@ def hopper():
 def test_a_second_original_as_good_marks_a_fold(monkeypatch):
     """Where the Jacobian alone sees no loss, a second original further away that fades
     to the same colour does: the texels it adds restore worse than ΔE00 2."""
-    import lightfade_addon.core.restore as module
+    import lightfade_addon.core.aging.restore as module
 
     img = hopper()
     fugitive = replace(PRINT, blue_wool=(5.0, 1.0, 3.0))    # a magenta of Blue Wool 1

@@ -1,10 +1,10 @@
-"""Tests for lightfade_addon.core.spectra: resampling, light presets, UV filter."""
+"""Tests for lightfade_addon.core.fading.spectra: resampling, light presets, UV filter."""
 
 import numpy as np
 import pytest
 from scipy.integrate import trapezoid as trapz
 
-from lightfade_addon.core.spectra import (
+from lightfade_addon.core.fading.spectra import (
     LIGHTS,
     WAVELENGTHS,
     illuminance,

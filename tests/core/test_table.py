@@ -1,12 +1,21 @@
-"""The aging table and its numpy evaluator (core/table.py)."""
+"""The aging table and its numpy evaluator (core/aging/table.py)."""
 
 import numpy as np
 import pytest
 
-from lightfade_addon.core.lattice import mix_lattice, simplex_interpolation
-from lightfade_addon.core.table import (
-    AgingTable, Texels, evaluate, evaluate_change, key_pixels, mix_slots, simplex_slots,
-    table_layout, table_pixels, texel_positions)
+from lightfade_addon.core.fading.lattice import mix_lattice, simplex_interpolation
+from lightfade_addon.core.aging.table import (
+    AgingTable,
+    Texels,
+    evaluate,
+    evaluate_change,
+    key_pixels,
+    mix_slots,
+    simplex_slots,
+    table_layout,
+    table_pixels,
+    texel_positions,
+)
 
 
 class TestSimplexSlots:
@@ -76,7 +85,7 @@ class TestEvaluate:
         assert (out[:, 3] == 0.25).all()
 
     def test_threaded_blocks_match_one_block(self, monkeypatch):
-        from lightfade_addon.core import table as mod
+        from lightfade_addon.core.aging import table as mod
 
         table, _ = _table(S=2, q=2)
         rng = np.random.default_rng(2)

@@ -12,10 +12,15 @@ is made small so that a small crop of a real photograph takes the binned path.
 import numpy as np
 import pytest
 
-from lightfade_addon.core import texels
-from lightfade_addon.core.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode
-from lightfade_addon.core.recipes import get_recipe
-from lightfade_addon.core.unmix import get_unmixer
+from lightfade_addon.core.aging import texels
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+)
+from lightfade_addon.core.fading.recipes import get_recipe
+from lightfade_addon.core.fading.unmix import get_unmixer
 
 
 @pytest.fixture(scope="module")

@@ -4,12 +4,16 @@ reciprocity, bad numbers, years far past 100, every output in [0, 1]."""
 import numpy as np
 import pytest
 
-from lightfade_addon.core import texels
-from lightfade_addon.core.aging import Light, TextureAger
-from lightfade_addon.core.colorimetry import (
-    XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode)
-from lightfade_addon.core.exact import age_image_exact
-from lightfade_addon.core.grid import GridSettings
+from lightfade_addon.core.aging import texels
+from lightfade_addon.core.aging.ager import Light, TextureAger
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+)
+from lightfade_addon.core.fading.exact import age_image_exact
+from lightfade_addon.core.fading.grid import GridSettings
 
 #: A coarse grid where a test is not of the grid's accuracy (reciprocity, years far past
 #: 100, bad numbers, out-of-range inputs and outputs): a tenth of the default grid's
@@ -68,7 +72,7 @@ def test_years_far_above_100(image):
 
 def test_more_than_max_keys_colours_stay_close_to_the_exact_path(image, monkeypatch):
     """The binned path (more distinct colours than the table has keys) against the exact path."""
-    from lightfade_addon.core import table
+    from lightfade_addon.core.aging import table
 
     monkeypatch.setattr(table, "TABLE_TEXELS", 300 * 65)  # 320 colours > 300 keys of 65 doses
     light = Light(lux=1500)
@@ -82,8 +86,8 @@ def test_more_than_max_keys_colours_stay_close_to_the_exact_path(image, monkeypa
 
 
 def test_binned_keys_are_bounded_and_close_in_concentration(image):
-    from lightfade_addon.core.recipes import get_recipe
-    from lightfade_addon.core.unmix import get_unmixer
+    from lightfade_addon.core.fading.recipes import get_recipe
+    from lightfade_addon.core.fading.unmix import get_unmixer
 
     um = get_unmixer(get_recipe("printed-paper"))
     flat = image.reshape(-1, 3)

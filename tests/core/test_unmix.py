@@ -5,9 +5,13 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from lightfade_addon.core.colorimetry import XYZ_to_linear_srgb, delta_E_2000, srgb_encode
-from lightfade_addon.core.recipes import RECIPES
-from lightfade_addon.core.unmix import Unmixer, forward_reflectance, get_unmixer
+from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_linear_srgb,
+    delta_E_2000,
+    srgb_encode,
+)
+from lightfade_addon.core.fading.recipes import RECIPES
+from lightfade_addon.core.fading.unmix import Unmixer, forward_reflectance, get_unmixer
 
 
 @pytest.fixture(scope="module")
@@ -52,7 +56,7 @@ class TestUnmixer:
         assert np.all(c[2] > 0.9)                               # black: the dyes near full
         # no mixture is closer to pure green than the one found
         grid = np.stack(np.meshgrid(*[np.linspace(0, 1, 9)] * 3, indexing="ij"), -1).reshape(-1, 3)
-        from lightfade_addon.core.colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ
+        from lightfade_addon.core.colour.colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ
 
         target = XYZ_to_Lab(linear_srgb_to_XYZ(green[:1]))
         best = np.sqrt(np.min(np.sum((unmixer.Lab(grid) - target) ** 2, axis=1)))

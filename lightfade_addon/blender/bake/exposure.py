@@ -26,7 +26,13 @@ from . import denoise as _denoise
 from . import filter3d
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
-from .emitters import group_emitters, find_emitters, isolate, uncounted_emissive, uncounted_note
+from .emitters import (
+    group_emitters,
+    find_emitters,
+    isolate,
+    uncounted_emissive,
+    uncounted_note,
+)
 from .maps import members, prune_maps, store_map
 from .presets import PRESETS
 from .state import BakeState

@@ -11,7 +11,7 @@ import hashlib
 import bpy
 import numpy as np
 
-from ...core.aging import Light
+from ...core.aging.ager import Light
 from ..pixels import resample
 from ..vocabulary import resolve_spectrum
 from . import daylight as _daylight

@@ -8,7 +8,13 @@ import bpy
 from ...output import plural
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, UV_MAP_NAME, luminance
-from .emitters import find_emitters, group_emitters, uncounted_emissive, uncounted_note, world_counts
+from .emitters import (
+    find_emitters,
+    group_emitters,
+    uncounted_emissive,
+    uncounted_note,
+    world_counts,
+)
 from .exposure import BakeSettings
 from .sizing import planned_map
 from .presets import PRESETS

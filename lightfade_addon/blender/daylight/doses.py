@@ -14,15 +14,15 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
-from ...core.aging import TextureAger
-from ...core.grid import GridSettings
-from ...core.noticeable import JND_DELTA_E00, years_to_noticeable
+from ...core.aging.ager import TextureAger
+from ...core.fading.grid import GridSettings
+from ...core.aging.noticeable import JND_DELTA_E00, years_to_noticeable
 from ..bake.common import LightFadeBakeError
 from ..bake.maps import exposure_signature, lights_and_exposure, map_key, read_lux
 from ..bake.raster import rasterise
 from ..bake.uvmaps import evaluated_mesh, triangle_uvs
 from ..pixels import read_linear, read_rgba, resample
-from ..runtime import material_recipe
+from ..aging.runtime import material_recipe
 from ..source import material_plan
 
 #: Years the noticeable-fade view looks ahead: slower texels read "> this".

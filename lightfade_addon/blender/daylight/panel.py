@@ -6,7 +6,13 @@ import bpy
 from ..bake.common import LightFadeBakeError
 from ..bake.daylight import replaced_lamps, sky_changed
 from .doses import material_doses
-from .place import DaylightError, place_source, read_weather, sun_position_settings, weather_path
+from .place import (
+    DaylightError,
+    place_source,
+    read_weather,
+    sun_position_settings,
+    weather_path,
+)
 from .view import view_objects
 
 

@@ -22,7 +22,7 @@ import os
 
 import bpy
 
-from ...core import daylight as _daylight
+from ...core.daylight import annual as _daylight
 from ..bake.common import LightFadeBakeError
 
 SUN_POSITION = "sun_pos_properties"

@@ -14,7 +14,7 @@ import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, IntProperty, StringProperty
 from bpy.types import PropertyGroup
 
-from ...core.daylight import PLACES
+from ...core.daylight.annual import PLACES
 from ..vocabulary import PRIOR_SPECTRUM_ITEMS
 
 #: Hours and days the daylight group's map counts: its lux is the year-round mean

@@ -5,7 +5,7 @@ from bpy.props import FloatProperty
 
 from ...output import plural
 from ..errors import AgingError
-from ..prepare import age_scene
+from ..aging.prepare import age_scene
 from ..progress import window_progress
 
 

@@ -9,9 +9,9 @@ groups; *Live Aging* puts the groups back and removes those images.
 import bpy
 
 from ...output import plural
-from ..apply import apply_aging, live_aging
+from ..aging.apply import apply_aging, live_aging
 from ..errors import AgingError
-from ..years import get_years
+from ..aging.years import get_years
 
 
 class LIGHTFADE_OT_apply_aging(bpy.types.Operator):

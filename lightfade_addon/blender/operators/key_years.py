@@ -2,7 +2,7 @@
 
 import bpy
 
-from ..years import get_years, keyframe_years
+from ..aging.years import get_years, keyframe_years
 
 
 class LIGHTFADE_OT_key_years(bpy.types.Operator):

@@ -2,7 +2,7 @@
 
 import bpy
 
-from ..copies import original
+from ..aging.copies import original
 
 
 def _material(context):

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import bpy
 
-from .source import tree_at
+from ..source import tree_at
 
 AGED_PREFIX = "LF_Aged_"
 #: Name of the group node that ages the Base Color in a copy.

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode
+from ..colour.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ, srgb_decode
 
 __all__ = ["years_to_noticeable", "JND_DELTA_E00"]
 

@@ -16,10 +16,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from .clearsky import clearsky_Ineichen2002, linke_turbidity
-from .perez import (PRECIPITABLE_WATER_DEFAULT, luminous_efficacy, perez_F1_F2,
-                    precipitable_water_from_dew_point, sky_brightness, sky_clearness)
-from .solar import (airmass_relative_KastenYoung1989, day_of_year, dni_extra_Spencer1971,
-                    pressure_from_altitude, sun_position_Meeus1998)
+from .perez import (
+    PRECIPITABLE_WATER_DEFAULT,
+    luminous_efficacy,
+    perez_F1_F2,
+    precipitable_water_from_dew_point,
+    sky_brightness,
+    sky_clearness,
+)
+from .solar import (
+    airmass_relative_KastenYoung1989,
+    day_of_year,
+    dni_extra_Spencer1971,
+    pressure_from_altitude,
+    sun_position_Meeus1998,
+)
 from .weather import REFERENCE_YEAR, read_weather
 
 __all__ = ["SkySamples", "sky_samples"]

@@ -46,7 +46,7 @@ __all__ = [
 ]
 
 #: Folder of the bundled data files.
-DATA_DIR = Path(__file__).resolve().parent / "data"
+DATA_DIR = Path(__file__).resolve().parent.parent / "data"
 
 #: First line written to every data file.
 FORMAT_LINE = "# LightFade colourant data v1"

@@ -3,7 +3,7 @@
 Age does nothing per texel. For each aged copy :func:`prepare` finds (or builds once for
 the file) the colour table of its recipe under its object's light spectra
 (:func:`.agingdata.ensure_table`) and builds the copy's aging node group, which reads
-that table, the object's exposure maps and the scene's years (:mod:`.nodes.aging`).
+that table, the object's exposure maps and the scene's years (:mod:`.group`).
 :func:`insert_aging` is the one step that puts the aging of one recipe between one
 colour socket and its BSDF. The years then cost nothing here: the material evaluates
 them. :func:`evaluator` reads the same table and maps back for the numpy twin (real
@@ -16,20 +16,20 @@ import hashlib
 
 import numpy as np
 
-from ..core.aging import Light
-from ..core.colourtable import ColourTable
-from ..core.grid import GridSettings
-from ..core.recipes import get_recipe
-from ..core.restore import Prior
-from . import agingdata
+from ...core.aging.ager import Light
+from ...core.aging.colourtable import ColourTable
+from ...core.fading.grid import GridSettings
+from ...core.fading.recipes import get_recipe
+from ...core.aging.restore import Prior
+from . import data as agingdata
 from .copies import GROUP_NODE, insert_group, walk
-from .errors import AgingError
-from .exposure import exposure_images
+from ..errors import AgingError
+from ..exposure import exposure_images
 from .grids import SceneGridStore
-from .nodes.aging import VERSION_KEY, GroupSpec, new_group
-from .part_properties import parts_digest
-from .pixels import read_linear, read_rgba
-from .vocabulary import RECIPE_IDS, SPECTRUM_IDS
+from .group import VERSION_KEY, GroupSpec, new_group
+from ..part_properties import parts_digest
+from ..pixels import read_linear, read_rgba
+from ..vocabulary import RECIPE_IDS, SPECTRUM_IDS
 
 #: The grid a restoration (Already Aged) solves on (the tests patch in a coarser one).
 GRID_SETTINGS = GridSettings()
@@ -103,7 +103,7 @@ def signature(scene, copy):
 
 
 def group_version(copy):
-    """The :data:`.nodes.aging.GROUP_VERSION` of the copy's aging group (0: none or old)."""
+    """The :data:`.group.GROUP_VERSION` of the copy's aging group (0: none or old)."""
     for _tree, node in walk(copy.node_tree):
         if node.name == GROUP_NODE and node.node_tree is not None:
             return int(node.node_tree.get(VERSION_KEY, 0))
@@ -111,7 +111,7 @@ def group_version(copy):
 
 
 def group_spec(uv_map, inputs, table_image):
-    """The :class:`.nodes.aging.GroupSpec` of a table image and exposure inputs."""
+    """The :class:`.group.GroupSpec` of a table image and exposure inputs."""
     info = agingdata.table_info(table_image)
     return GroupSpec(uv_map=uv_map, maps=tuple(inputs), table_image=table_image,
                      table_size=tuple(table_image.size), side=int(info["side"]),

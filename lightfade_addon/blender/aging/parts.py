@@ -37,17 +37,17 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
-from ..core.colourtable import evaluate
-from . import agingdata, runtime
-from .albedo import bake_albedos
+from ...core.aging.colourtable import evaluate
+from . import data as agingdata, runtime
+from ..albedo import bake_albedos
 from .copies import GROUP_NODE, TREE_TAG, insert_group, walk
-from .errors import AgingError
-from .exposure import exposure_uv
-from .nodes.aging import GROUP_VERSION, VERSION_KEY
-from .nodes.mix import PER_IMAGE, mix_group
-from .part_properties import KEEP, part_recipe_key, parts_digest
-from .pixels import read_rgba
-from .source import ColourSocket, find_colour_socket, image_problem, tree_at
+from ..errors import AgingError
+from ..exposure import exposure_uv
+from .group import GROUP_VERSION, VERSION_KEY
+from .mix import PER_IMAGE, mix_group
+from ..part_properties import KEEP, part_recipe_key, parts_digest
+from ..pixels import read_rgba
+from ..source import ColourSocket, find_colour_socket, image_problem, tree_at
 
 #: Prefix of the mixing group (one per copy with parts) and of the baked weights.
 MIX_PREFIX = "LF_Parts_"

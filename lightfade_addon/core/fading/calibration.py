@@ -25,8 +25,8 @@ from dataclasses import replace
 import numpy as np
 from scipy.optimize import brentq
 
-from .colorimetry import delta_E_ab, reflectance_to_Lab
-from .fading import simulate
+from ..colour.colorimetry import delta_E_ab, reflectance_to_Lab
+from .model import simulate
 from .spectra import WAVELENGTHS, light_spectrum
 
 __all__ = [

@@ -21,16 +21,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .cache import directory
-from .colorimetry import linear_srgb_to_XYZ, reflectance_to_XYZ, srgb_encode
+from ..fading.cache import directory
+from ..colour.colorimetry import linear_srgb_to_XYZ, reflectance_to_XYZ, srgb_encode
 from .colourtable import ColourTable, cube_colours, mix_resolution
-from .fading import simulate
-from .grid import FadeGrid, GridSettings
-from .lattice import concentration_axis, mix_lattice
+from ..fading.model import simulate
+from ..fading.grid import FadeGrid, GridSettings
+from ..fading.lattice import concentration_axis, mix_lattice
 from .restore import restore
-from .spectra import WAVELENGTHS, light_spectrum
+from ..fading.spectra import WAVELENGTHS, light_spectrum
 from .table import mix_slots
-from .unmix import get_unmixer
+from ..fading.unmix import get_unmixer
 
 __all__ = ["TABLE_FORMAT", "TableSettings", "build_table", "load_or_build", "table_key"]
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_decode
+from ..colour.colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_decode
 
 __all__ = ["MAX_KEYS", "UNMIX_BUDGET", "UNMIX_REFINE", "texel_concentrations"]
 

@@ -1,6 +1,6 @@
 """The aging's data in the file: one shared table image per recipe and light set.
 
-An aged copy's node group (:mod:`.nodes.aging`) reads two kinds of images, and nothing
+An aged copy's node group (:mod:`.group`) reads two kinds of images, and nothing
 Age writes per texel:
 
 ``LF_Table_<key>``  float RGBA, Non-Color, half precision: the colour table
@@ -25,12 +25,12 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from ..core.colourtable import atlas_layout, atlas_pixels, table_from_atlas
-from ..core.lights import spectra_keys
-from ..core.tablebuild import TableSettings, load_or_build, table_key
-from .errors import AgingError
-from .exposure import exposure_images
-from .pixels import read_rgba, resample, write_rgba
+from ...core.aging.colourtable import atlas_layout, atlas_pixels, table_from_atlas
+from ...core.fading.lights import spectra_keys
+from ...core.aging.tablebuild import TableSettings, load_or_build, table_key
+from ..errors import AgingError
+from ..exposure import exposure_images
+from ..pixels import read_rgba, resample, write_rgba
 
 TABLE_PREFIX = "LF_Table_"
 #: Images of older versions (per-copy keys, rates, restored textures), removed on Age/Reset.

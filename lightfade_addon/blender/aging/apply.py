@@ -20,18 +20,18 @@ import time
 import bpy
 import numpy as np
 
-from . import agingdata, parts, runtime
-from .albedo import albedo_image, bake_albedos
+from . import data as agingdata, parts, runtime
+from ..albedo import albedo_image, bake_albedos
 from .copies import APPLIED_NAME, GROUP_NODE, copies_of, walk
-from .errors import AgingError, check_years
-from .exposure import exposure_shape, exposure_signature, exposure_uv
-from .pixels import write_rgba
-from .source import find_colour_socket
+from ..errors import AgingError, check_years
+from ..exposure import exposure_shape, exposure_signature, exposure_uv
+from ..pixels import write_rgba
+from ..source import find_colour_socket
 from .years import get_years, write_years
-from ..core.colorimetry import srgb_encode
-from ..core.colourtable import evaluate
-from .nodes.aging import GROUP_VERSION
-from .part_properties import parts_digest
+from ...core.colour.colorimetry import srgb_encode
+from ...core.aging.colourtable import evaluate
+from .group import GROUP_VERSION
+from ..part_properties import parts_digest
 
 #: Prefix of the images :func:`apply_aging` writes.
 APPLIED_PREFIX = "LF_Applied_"

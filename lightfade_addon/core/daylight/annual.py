@@ -25,8 +25,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from .perez import COS_85, luminous_efficacy, luminous_efficacy_Perez1990
-from .skygrid import (check_width, grid, north_from_sun_position_addon, scene_to_enu,
-                      sun_direction_scene)
+from .skygrid import (
+    check_width,
+    grid,
+    north_from_sun_position_addon,
+    scene_to_enu,
+    sun_direction_scene,
+)
 from .skymap import PEREZ1993_SUBSTEPS, SKY_MODELS, accumulate, substeps_for
 from .skysamples import SkySamples, sky_samples
 from .solar import sun_position

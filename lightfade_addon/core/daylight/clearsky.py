@@ -26,7 +26,7 @@ __all__ = ["CLIMATOLOGY_FILE", "linke_turbidity", "clearsky_Ineichen2002"]
 #: The worldwide monthly climatology: ``tl20`` uint8 (12, H, W), 20 × T_L on cells of
 #: ``step_deg`` degrees, written by ``tools/linke_turbidity.py`` from pvlib's
 #: ``LinkeTurbidities.h5`` (Remund et al. 2003; source and licence inside the file).
-CLIMATOLOGY_FILE = Path(__file__).parent / "data" / "linke_turbidity.npz"
+CLIMATOLOGY_FILE = Path(__file__).parent.parent / "data" / "linke_turbidity.npz"
 
 
 @functools.lru_cache(maxsize=1)

@@ -11,7 +11,7 @@ import json
 
 import numpy as np
 
-from .colorimetry import reflectance_to_XYZ
+from ..colour.colorimetry import reflectance_to_XYZ
 from .grid import FadeGrid, GridSettings
 from .lattice import concentration_axis, dose_axis, mix_lattice
 from .spectra import WAVELENGTHS

@@ -47,9 +47,9 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from ...core.colorimetry import XYZ_to_linear_srgb, linear_srgb_to_XYZ
-from ...core.gamut import LUMA
-from ..years import YEARS_PROP
+from ...core.colour.colorimetry import XYZ_to_linear_srgb, linear_srgb_to_XYZ
+from ...core.colour.gamut import LUMA
+from .years import YEARS_PROP
 from .graph import Graph, Sock
 
 #: Bumped whenever the group's nodes change: an older group is rebuilt (Age).

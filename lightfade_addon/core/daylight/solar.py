@@ -173,7 +173,7 @@ def sun_position(place, times, refraction=True):
 
     Examples
     --------
-    >>> from lightfade_addon.core.daylight import PLACES
+    >>> from lightfade_addon.core.daylight.annual import PLACES
     >>> z, a = sun_position(PLACES["London"], np.array(["2025-06-21T12:00"], "datetime64[m]"))
     >>> round(float(z[0]))
     28

@@ -17,18 +17,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from .cache import load_or_build
-from .colorimetry import srgb_decode, srgb_encode, XYZ_to_linear_srgb
-from .gamut import encode_in_gamut, out_of_gamut
-from .grid import GridSettings
-from .lattice import grid_max_dose
-from .lights import HOURS_PER_YEAR_DEFAULT, Light, dose_rates, spectra_keys
-from .recipes import Recipe, get_recipe
+from ..fading.cache import load_or_build
+from ..colour.colorimetry import srgb_decode, srgb_encode, XYZ_to_linear_srgb
+from ..colour.gamut import encode_in_gamut, out_of_gamut
+from ..fading.grid import GridSettings
+from ..fading.lattice import grid_max_dose
+from ..fading.lights import HOURS_PER_YEAR_DEFAULT, Light, dose_rates, spectra_keys
+from ..fading.recipes import Recipe, get_recipe
 from .restore import Prior, log_initial, restore
-from .spectra import WAVELENGTHS, light_spectrum
+from ..fading.spectra import WAVELENGTHS, light_spectrum
 from .table import AgingTable, Texels, evaluate, evaluate_change, max_keys, texel_positions
 from .texels import texel_concentrations
-from .unmix import get_unmixer
+from ..fading.unmix import get_unmixer
 
 __all__ = ["Light", "Prior", "TextureAger", "age_image", "age_image_exact",
            "HOURS_PER_YEAR_DEFAULT"]
@@ -236,7 +236,7 @@ def age_image(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=No
 
 def __getattr__(name):
     if name == "age_image_exact":          # the reference path lives in .exact
-        from .exact import age_image_exact
+        from ..fading.exact import age_image_exact
 
         return age_image_exact
     raise AttributeError(name)

@@ -85,19 +85,25 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .cache import load_or_build
-from .colorimetry import (
-    XYZ_to_Lab, XYZ_to_linear_srgb, delta_E_2000, linear_srgb_to_XYZ, srgb_decode, srgb_encode)
-from .gridbuild import XYZ_FLOOR
-from .gamut import encode_in_gamut, into_gamut, out_of_gamut
-from .grid import GridSettings
-from .lattice import grid_max_dose, simplex_interpolation
-from .lights import Light, dose_rates, spectra_keys
-from .recipes import get_recipe
-from .spectra import WAVELENGTHS, light_spectrum
+from ..fading.cache import load_or_build
+from ..colour.colorimetry import (
+    XYZ_to_Lab,
+    XYZ_to_linear_srgb,
+    delta_E_2000,
+    linear_srgb_to_XYZ,
+    srgb_decode,
+    srgb_encode,
+)
+from ..fading.gridbuild import XYZ_FLOOR
+from ..colour.gamut import encode_in_gamut, into_gamut, out_of_gamut
+from ..fading.grid import GridSettings
+from ..fading.lattice import grid_max_dose, simplex_interpolation
+from ..fading.lights import Light, dose_rates, spectra_keys
+from ..fading.recipes import get_recipe
+from ..fading.spectra import WAVELENGTHS, light_spectrum
 from . import texels
 from .texels import UNMIX_REFINE, _codes, _decode, _distinct
-from .unmix import bounded_gauss_newton, get_unmixer, pseudo_inverse
+from ..fading.unmix import bounded_gauss_newton, get_unmixer, pseudo_inverse
 
 __all__ = ["LOST_APART", "PRECISION", "Prior", "Restored", "restore"]
 

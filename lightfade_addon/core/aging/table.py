@@ -46,9 +46,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .colorimetry import XYZ_to_linear_srgb, linear_srgb_to_XYZ
-from .gamut import into_gamut_planes
-from .lattice import DOSE_POWER, mix_lattice
+from ..colour.colorimetry import XYZ_to_linear_srgb, linear_srgb_to_XYZ
+from ..colour.gamut import into_gamut_planes
+from ..fading.lattice import DOSE_POWER, mix_lattice
 
 __all__ = ["AgingTable", "Texels", "TABLE_TEXELS", "TABLE_NODES_PER_ROW", "evaluate",
            "evaluate_change", "max_keys",

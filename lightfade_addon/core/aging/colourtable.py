@@ -27,7 +27,7 @@ At zero years the colour itself comes back, unless the table carries a *history*
 (a texture that is already old, :class:`.restore.Prior`): its change at dose 0 is
 then the restoration ``log(XYZ_new / XYZ_seen)``, built over the seen colour.
 
-:func:`evaluate` is the numpy evaluator; ``blender/nodes/aging.py`` builds the node
+:func:`evaluate` is the numpy evaluator; ``blender/aging/group.py`` builds the node
 group that computes the same from :func:`atlas_pixels`, and the two are tested
 against each other texel by texel.
 """
@@ -41,8 +41,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .colorimetry import XYZ_to_linear_srgb, linear_srgb_to_XYZ
-from .gamut import into_gamut_planes
+from ..colour.colorimetry import XYZ_to_linear_srgb, linear_srgb_to_XYZ
+from ..colour.gamut import into_gamut_planes
 from .table import simplex_slots
 
 __all__ = ["ColourTable", "atlas_layout", "atlas_pixels", "cube_colours", "dose_position",

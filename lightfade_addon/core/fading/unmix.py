@@ -16,7 +16,7 @@ import functools
 
 import numpy as np
 
-from .colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_encode, xyz_weights
+from ..colour.colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_encode, xyz_weights
 from .kubelka import kubelka_layer, over_ground
 from .recipes import Recipe
 from .spectra import WAVELENGTHS
@@ -222,7 +222,7 @@ class Unmixer:
             n = self.lut_size
             axis = np.linspace(0.0, 1.0, n)
             enc = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
-            from .colorimetry import srgb_decode
+            from ..colour.colorimetry import srgb_decode
 
             self._lut = self.solve_linear_srgb(srgb_decode(enc)).reshape(n, n, n, self.Cu)
         return self._lut
@@ -254,7 +254,7 @@ class Unmixer:
             out += w[:, None] * lut[i[:, 0] + bits[0], i[:, 1] + bits[1], i[:, 2] + bits[2]]
         np.clip(out, 0.0, 1.0, out=out)
         if refine:
-            from .colorimetry import srgb_decode
+            from ..colour.colorimetry import srgb_decode
 
             lin = srgb_decode(e)
             out = self._gauss_newton(out, XYZ_to_Lab(linear_srgb_to_XYZ(lin)), refine)

@@ -9,9 +9,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from .colorimetry import (
-    XYZ_to_linear_srgb, linear_srgb_to_XYZ, reflectance_to_XYZ, srgb_decode, srgb_encode)
-from .gamut import encode_in_gamut
+from ..colour.colorimetry import (
+    XYZ_to_linear_srgb,
+    linear_srgb_to_XYZ,
+    reflectance_to_XYZ,
+    srgb_decode,
+    srgb_encode,
+)
+from ..colour.gamut import encode_in_gamut
 from .lights import Light
 from .recipes import get_recipe
 from .spectra import WAVELENGTHS

@@ -22,9 +22,14 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .calibration import (
-    CALIBRATIONS, JND_DELTA_E, beta_from_blue_wool, blue_wool_dose, matched_rates)
+    CALIBRATIONS,
+    JND_DELTA_E,
+    beta_from_blue_wool,
+    blue_wool_dose,
+    matched_rates,
+)
 from .colourants import load_colourant, load_substrate
-from .fading import KINETICS, SimulationResult, simulate
+from .model import KINETICS, SimulationResult, simulate
 from .lattice import dose_axis
 from .spectra import WAVELENGTHS
 

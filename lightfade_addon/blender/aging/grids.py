@@ -1,7 +1,7 @@
 """The fading grids a .blend uses, kept inside it (``Scene["lightfade_grids"]``).
 
 Render nodes then never simulate: a fresh process rebuilds each aged material's
-:class:`~lightfade_addon.core.aging.TextureAger` from the file's grid.  Only the grids
+:class:`~lightfade_addon.core.aging.ager.TextureAger` from the file's grid.  Only the grids
 that aged copies name are kept (:func:`purge`), so repeated Age and Bake do not grow
 the file.
 """

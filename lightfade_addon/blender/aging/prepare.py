@@ -3,9 +3,9 @@
 The order is the promise made to the user: every check that can refuse runs first
 (:func:`.targets.check`, no Cycles work yet) and all problems are reported together;
 then each object gets its own aged copies (:mod:`.copies`), and each copy its aging
-node group (:mod:`.runtime`, :mod:`.nodes.aging`) between its own Base Color graph and
+node group (:mod:`.runtime`, :mod:`.group`) between its own Base Color graph and
 its BSDF, reading the colour table its recipe and light spectra share (built once for
-the file, :mod:`.agingdata`) and the object's exposure maps — a material with parts
+the file, :mod:`.data`) and the object's exposure maps — a material with parts
 gets one such group per recipe in use, mixed by the masks (:mod:`.parts`); the scene's
 years drive them all (:mod:`.years`). Nothing is done per texel. If anything fails on
 the way, the copies made so far are removed again.
@@ -15,14 +15,14 @@ from __future__ import annotations
 
 import bpy
 
-from . import agingdata, parts, runtime
+from . import data as agingdata, parts, runtime
 from .copies import assign, copies_of, make_copy
 from .years import write_years
-from .errors import AgingError, check_years
-from .exposure import exposure_uv
+from ..errors import AgingError, check_years
+from ..exposure import exposure_uv
 from .grids import purge
-from .reset import remove_aged
-from .targets import check, format_problems, targets
+from ..reset import remove_aged
+from ..targets import check, format_problems, targets
 
 
 def _new_copy(obj, material, plan):

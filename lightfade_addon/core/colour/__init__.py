@@ -1,0 +1,1 @@
+"""Colour science: spectra to CIE XYZ, CIELAB, sRGB, colour differences, the gamut rule."""
