@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .common import UV_MAP_NAME
-from .uvmaps import evaluated_mesh, plan_uv, triangle_uvs
+from .uvmaps import evaluated_mesh, plan_uv, triangle_uvs, world_triangles
 
 MIN_SIZE = 16
 #: Share of the 0-1 square a ``LightFadeUV`` map is sized for: the packing of
@@ -43,18 +43,11 @@ def surface_and_uv_area(obj, depsgraph, uv_name):
     """
     with evaluated_mesh(obj, depsgraph) as mesh:
         mesh.calc_loop_triangles()
-        n = len(mesh.loop_triangles)
-        verts = np.empty(n * 3, dtype=np.int64)
-        mesh.loop_triangles.foreach_get("vertices", verts)
-        co = np.empty(len(mesh.vertices) * 3, dtype=np.float64)
-        mesh.vertices.foreach_get("co", co)
-        matrix = np.array(obj.matrix_world, dtype=np.float64)
-        co = co.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
-        tri3 = co[verts].reshape(n, 3, 3)
+        tri3 = world_triangles(obj, mesh)
         if uv_name and uv_name in mesh.uv_layers:
             world, uv = _areas(tri3, triangle_uvs(mesh, uv_name)[0])
         else:
-            world, uv = _areas(tri3, np.zeros((n, 3, 2)))[0], PACK_FILL
+            world, uv = _areas(tri3, np.zeros((len(tri3), 3, 2)))[0], PACK_FILL
     return world, uv
 
 

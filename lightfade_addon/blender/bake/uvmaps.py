@@ -96,23 +96,29 @@ class TexelGeometry:
     texel: float
 
 
+def world_triangles(obj, mesh):
+    """World-space corners (m) of ``mesh``'s loop triangles, (n, 3, 3) float64
+    (``mesh`` is ``obj``'s evaluated mesh, its loop triangles computed)."""
+    n = len(mesh.loop_triangles)
+    verts = np.empty(n * 3, dtype=np.int64)
+    mesh.loop_triangles.foreach_get("vertices", verts)
+    co = np.empty(len(mesh.vertices) * 3, dtype=np.float64)
+    mesh.vertices.foreach_get("co", co)
+    matrix = np.array(obj.matrix_world, dtype=np.float64)
+    co = co.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
+    return co[verts].reshape(n, 3, 3)
+
+
 def texel_geometry(obj, depsgraph, uv_name, size, margin):
     """:class:`TexelGeometry` of ``obj``'s baked UVs at ``size`` (modifiers applied)."""
     with evaluated_mesh(obj, depsgraph) as mesh:
         tri, poly = triangle_uvs(mesh, uv_name)
         islands = polygon_islands(mesh, uv_name)[poly]
-        n = len(mesh.loop_triangles)
-        verts = np.empty(n * 3, dtype=np.int64)
-        mesh.loop_triangles.foreach_get("vertices", verts)
-        co = np.empty(len(mesh.vertices) * 3, dtype=np.float64)
-        mesh.vertices.foreach_get("co", co)
-    matrix = np.array(obj.matrix_world, dtype=np.float64)
-    co = co.reshape(-1, 3) @ matrix[:3, :3].T + matrix[:3, 3]
-    corners = co[verts].reshape(n, 3, 3)
+        corners = world_triangles(obj, mesh)
     face = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     area = 0.5 * np.linalg.norm(face, axis=1)
     face /= np.maximum(2.0 * area, 1e-20)[:, None]
-    _, tri_index = raster.rasterise(tri, size, np.arange(n), strict=False)
+    _, tri_index = raster.rasterise(tri, size, np.arange(len(corners)), strict=False)
     weights = raster.barycentric(tri, size, tri_index)
     covered = tri_index >= 0
     safe = np.where(covered, tri_index, 0)
