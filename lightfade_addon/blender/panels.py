@@ -195,7 +195,11 @@ class MATERIAL_PT_lightfade(bpy.types.Panel):
             layout.prop(props, "blue_wool")
             dose = blue_wool_dose(props.blue_wool) / 1e6
             layout.label(text=f"Just-noticeable fade after ~{dose:.3g} Mlx·h of UV-free light")
-            layout.label(text=f"Per colourant: {fastness_text(material_recipe(material))}")
+            layout.prop(props, "fastness")
+            try:
+                layout.label(text=f"Per colourant: {fastness_text(material_recipe(material))}")
+            except ValueError as exc:
+                layout.label(text=f"Per-Colourant Classes: {exc}", icon="ERROR")
         else:
             layout.prop(props, "beta")
         layout.prop(props, "already_years")

@@ -113,6 +113,8 @@ class LIGHTFADE_PG_lane(PropertyGroup):
                            description="Blue Wool class of this preparation")
     beta: FloatProperty(name="β (×10⁻⁶)", default=23.0,
                         description="Sensitivity β of this preparation, in millionths")
+    fastness: StringProperty(name="Per-Colourant Classes",
+                             description="Per-colourant Blue Wool classes of this preparation")
     table_image: PointerProperty(name="Aging Table Image", type=bpy.types.Image,
                                  description="The colour table of this recipe (shared with "
                                  "every material aging with it under the same light spectra)")
@@ -128,7 +130,8 @@ def part_recipe_key(settings):
     """The recipe and sensitivity that make one preparation (parts sharing it share one)."""
     sensitivity = (f"beta {settings.beta:g}" if settings.sensitivity_mode == "BETA"
                    else f"blue wool {settings.blue_wool}")
-    return f"{settings.recipe} / {sensitivity}"
+    fastness = getattr(settings, "fastness", "").strip()       # the material's own only
+    return f"{settings.recipe} / {sensitivity}" + (f" / {fastness}" if fastness else "")
 
 
 def parts_digest(props):

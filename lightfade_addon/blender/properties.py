@@ -172,6 +172,12 @@ class LIGHTFADE_PG_material(PropertyGroup):
         min=1,
         max=8,
     )
+    fastness: StringProperty(
+        name="Per-Colourant Classes",
+        description="Blue Wool classes for single colourants, e.g. 'yellow=2' for a fugitive "
+        "yellow dye (its colour goes first); empty: the recipe's matched classes",
+        default="",
+    )
     beta: FloatProperty(
         name="β (×10⁻⁶)",
         description="Sensitivity β of the most light-sensitive colourant (paper, equation 3), in "

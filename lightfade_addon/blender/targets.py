@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from .aging.copies import original
 from .aging.parts import part_problems
+from .aging.runtime import material_recipe
 from .source import material_plan
 
 
@@ -44,11 +45,24 @@ def check(scene, pairs, need_exposure=True):
         if plan.colour is not None:
             plan.problems.extend(p for p in part_problems(obj, material, plan.colour)
                                  if p not in plan.problems)
+        problem = recipe_problem(material)
+        if problem is not None and problem not in plan.problems:
+            plan.problems.append(problem)
         plans[obj, material] = plan
         for problem in plan.problems:
             if problem not in problems:
                 problems.append(problem)
     return plans, problems
+
+
+def recipe_problem(material):
+    """One line when the material's *Per-Colourant Classes* cannot be applied, else None."""
+    try:
+        material_recipe(material)
+    except ValueError as exc:
+        return (f"Material '{material.name}': Per-Colourant Classes "
+                f"'{material.lightfade.fastness}': {exc}; correct or clear the field")
+    return None
 
 
 def material_problems(scene, objects=()):

@@ -106,16 +106,16 @@ def add_arguments(parser):
 
 def _fastness(text):
     """argparse ``type=`` of one ``--fastness`` word: ``(colourant, class)``."""
+    from ..core.fading.recipes import parse_classes
 
-    name, sep, value = text.partition("=")
     try:
-        k = float(value)
-    except ValueError:
-        k = float("nan")
-    if not sep or not name or not 1.0 <= k <= 8.0:
+        classes = parse_classes(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
+    if len(classes) != 1:
         raise argparse.ArgumentTypeError(
-            f"{text!r}: expected COLOURANT=CLASS with a Blue Wool class 1-8, e.g. yellow=2")
-    return name.strip(), k
+            f"{text!r}: expected one COLOURANT=CLASS per --fastness, e.g. yellow=2")
+    return next(iter(classes.items()))
 
 _non_negative_years = number("years")
 

@@ -195,6 +195,7 @@ def make_lanes(copy):
         lane.sensitivity_mode = settings.sensitivity_mode
         lane.blue_wool = settings.blue_wool
         lane.beta = settings.beta
+        lane.fastness = getattr(settings, "fastness", "")       # a part has none
     props.parts_key = parts_digest(props.source.lightfade)
 
 

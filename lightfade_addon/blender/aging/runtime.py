@@ -19,7 +19,7 @@ import numpy as np
 from ...core.aging.ager import Light
 from ...core.aging.colourtable import ColourTable
 from ...core.fading.grid import GridSettings
-from ...core.fading.recipes import get_recipe
+from ...core.fading.recipes import get_recipe, parse_classes
 from ...core.aging.restore import Prior
 from . import data as agingdata
 from .copies import GROUP_NODE, insert_group, walk
@@ -60,7 +60,9 @@ def settings_recipe(props):
     recipe = get_recipe(RECIPE_IDS[props.recipe])
     if props.sensitivity_mode == "BETA":
         return recipe.with_beta(props.beta * 1e-6)
-    return recipe.with_blue_wool(props.blue_wool)
+    recipe = recipe.with_blue_wool(props.blue_wool)
+    classes = parse_classes(getattr(props, "fastness", ""))     # parts have none
+    return recipe.with_classes(classes) if classes else recipe
 
 
 def material_prior(material):
@@ -96,7 +98,7 @@ def signature(scene, copy):
     except AgingError as err:
         maps = [str(err)]
     parts = [obj.lightfade.uv_map, *maps, s.recipe, s.sensitivity_mode, str(s.blue_wool),
-             repr(s.beta), repr(material_prior(source)), props.path, props.uv_map]
+             s.fastness, repr(s.beta), repr(material_prior(source)), props.path, props.uv_map]
     if len(s.parts):                                  # several recipes by mask (.parts)
         parts.append(parts_digest(s))
     return hashlib.sha1("|".join(parts).encode()).hexdigest()

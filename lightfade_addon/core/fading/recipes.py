@@ -322,6 +322,38 @@ RECIPES = {r.name: r for r in (
 )}
 
 
+def parse_classes(text):
+    """Per-colourant Blue Wool classes from ``"yellow=2, magenta=3"`` (commas or spaces).
+
+    Returns
+    -------
+    dict of str to float
+        Colourant name -> class, for :meth:`Recipe.with_classes` (empty for blank text).
+
+    Raises
+    ------
+    ValueError
+        A word that is not ``COLOURANT=CLASS`` with a class from 1 to 8.
+
+    Examples
+    --------
+    >>> parse_classes("yellow=2, magenta=3.5")
+    {'yellow': 2.0, 'magenta': 3.5}
+    """
+    classes = {}
+    for word in text.replace(",", " ").split():
+        name, sep, value = word.partition("=")
+        try:
+            k = float(value)
+        except ValueError:
+            k = float("nan")
+        if not sep or not name or not 1.0 <= k <= 8.0:
+            raise ValueError(f"{word!r}: expected COLOURANT=CLASS with a Blue Wool class "
+                             f"1-8, e.g. yellow=2")
+        classes[name] = k
+    return classes
+
+
 def fastness_text(recipe):
     """Each colourant's Blue Wool class on one line, for the UI.
 
