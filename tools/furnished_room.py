@@ -117,7 +117,7 @@ def clear_glass(name="Glass"):
     import bpy
 
     mat = bpy.data.materials.get(name)
-    if mat is None or not mat.use_nodes:
+    if mat is None or mat.node_tree is None:
         return
     for node in mat.node_tree.nodes:
         if node.type == "BSDF_PRINCIPLED":
@@ -140,7 +140,8 @@ def add_view_light(scene, elevation=35.0, strength=4.0):
     sun.data.lightfade.spectrum = "DAYLIGHT_GLASS"
     world = scene.world or bpy.data.worlds.new("World")
     scene.world = world
-    world.use_nodes = True
+    if world.node_tree is None:           # Blender 4.2; from 5.0 every World has nodes
+        world.use_nodes = True
     world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.55, 0.65, 0.8, 1.0)
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.6
 
