@@ -34,6 +34,15 @@ class RecordingLayout:
     def label(self, text="", **kwargs):
         self.calls.append(("label", text))
 
+    def template_list(self, list_type, list_id, data, name, active_data, active_name, **kw):
+        assert hasattr(bpy.types, list_type) and name in data.bl_rna.properties
+        assert active_name in active_data.bl_rna.properties
+        self.calls.append(("list", name))
+
+    def template_ID(self, data, name, **kwargs):
+        assert name in data.bl_rna.properties
+        self.calls.append(("prop", name))
+
 
 def draw_all(context):
     from lightfade_addon.blender import panels

@@ -8,11 +8,13 @@ import pytest
 
 bpy = pytest.importorskip("bpy")
 
-from lightfade_addon.core.colour.colorimetry import (
+from lightfade_addon.core.colour.colorimetry import (  # noqa: E402
     XYZ_to_Lab,
     delta_E_2000,
     linear_srgb_to_XYZ,
-)  # noqa: E402
+)
+from tests.blender.test_material_aging import _camera_and_render_settings  # noqa: E402
+from tests.blender.test_panels import RecordingLayout  # noqa: E402
 
 N = 16
 #: Key texels well inside the left half (u < 0.5) and the right; Cycles' bake samples
@@ -39,21 +41,6 @@ def node_evaluation(copy):
                        [(copy, colour_socket(copy), image)], copy.lightfade.uv_map, margin=0)
     bpy.data.images.remove(image)
     return out[copy.name]
-
-
-def _camera_and_render_settings(scene):
-    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    scene.collection.objects.link(cam)
-    cam.location = (0.0, 0.0, 3.0)
-    scene.camera = cam
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = 4
-    scene.cycles.use_denoising = False
-    scene.cycles.seed = 7
-    scene.render.resolution_x = scene.render.resolution_y = 48
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_depth = "32"
 
 
 def _albedo(material):
@@ -312,40 +299,6 @@ def test_reset_keeps_what_the_user_made_and_a_changed_part_needs_age(sofa):
     assert "lightfade_grids" not in bpy.context.scene
 
 
-class _Layout:
-    """A recording layout (panels cannot draw in background mode): checks each property
-    and operator it is given exists."""
-
-    def __init__(self, calls):
-        self.calls, self.use_property_split, self.active = calls, False, True
-
-    def _child(self, *args, **kwargs):
-        return _Layout(self.calls)
-
-    row = column = box = _child
-
-    def prop(self, data, name, **kwargs):
-        assert name in data.bl_rna.properties, f"{data!r} has no property {name!r}"
-        self.calls.append(("prop", name))
-
-    def operator(self, idname, **kwargs):
-        module, name = idname.split(".")
-        assert hasattr(getattr(bpy.ops, module), name), idname
-        self.calls.append(("operator", idname))
-
-    def label(self, text="", **kwargs):
-        self.calls.append(("label", text))
-
-    def template_list(self, list_type, list_id, data, name, active_data, active_name, **kw):
-        assert hasattr(bpy.types, list_type) and name in data.bl_rna.properties
-        assert active_name in active_data.bl_rna.properties
-        self.calls.append(("list", name))
-
-    def template_ID(self, data, name, **kwargs):
-        assert name in data.bl_rna.properties
-        self.calls.append(("prop", name))
-
-
 def test_the_parts_panel_shows_each_choice_and_what_stops_age(sofa):
     from types import SimpleNamespace
 
@@ -356,7 +309,7 @@ def test_the_parts_panel_shows_each_choice_and_what_stops_age(sofa):
 
     def draw():
         calls = []
-        MATERIAL_PT_lightfade_parts.draw(SimpleNamespace(layout=_Layout(calls)), context)
+        MATERIAL_PT_lightfade_parts.draw(SimpleNamespace(layout=RecordingLayout(calls)), context)
         return calls
 
     assert ("label", "No parts: the whole material ages with the recipe above") in draw()
