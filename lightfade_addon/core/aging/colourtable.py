@@ -36,14 +36,13 @@ from __future__ import annotations
 
 import math
 import os
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..colour.colorimetry import XYZ_to_linear_srgb, linear_srgb_to_XYZ
 from ..colour.gamut import into_gamut_planes
-from .table import simplex_slots
+from .table import in_blocks, simplex_slots
 
 __all__ = ["ColourTable", "atlas_layout", "atlas_pixels", "cube_colours", "dose_position",
            "evaluate", "mix_resolution", "table_from_atlas"]
@@ -234,13 +233,7 @@ def evaluate(table, rgb, rates, years, out=None):
         into_gamut_planes(planes)
         res[s0:s1, :3] = planes.T
 
-    starts = range(0, n, _BLOCK)
-    if n > _BLOCK and _THREADS > 1:          # numpy releases the GIL in the gathers
-        with ThreadPoolExecutor(_THREADS) as pool:
-            list(pool.map(block, starts))
-    else:
-        for s0 in starts:
-            block(s0)
+    in_blocks(block, n, _BLOCK, _THREADS)
     return res
 
 

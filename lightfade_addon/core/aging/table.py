@@ -340,14 +340,21 @@ def evaluate(table, texels, years, positions=None, out=None):
         for ch in range(3):
             res[s0:s1, ch] = rgb[ch]
 
-    starts = range(0, n, _BLOCK)
-    if n > _BLOCK and _THREADS > 1:
-        with ThreadPoolExecutor(_THREADS) as pool:
+    in_blocks(block, n, _BLOCK)
+    return res
+
+
+def in_blocks(block, n, size, threads=_THREADS):
+    """Call ``block(s0)`` for every start ``s0`` of ``size``-row blocks of ``n`` rows, on
+    ``threads`` threads when there is more than one block (numpy releases the GIL in
+    the gathers)."""
+    starts = range(0, n, size)
+    if n > size and threads > 1:
+        with ThreadPoolExecutor(threads) as pool:
             list(pool.map(block, starts))
     else:
         for s0 in starts:
             block(s0)
-    return res
 
 
 # ------------------------------------------------------------------ image layouts
