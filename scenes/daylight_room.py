@@ -30,11 +30,12 @@ def _wall_y(y, x0, x1, z0, z1):
     return ((x0, y, z0), (x1, y, z0), (x1, y, z1), (x0, y, z1))
 
 
-def walls(bars=True):
-    """Walls and ceiling as one object (inward faces), the window opening left open."""
-    (x0, x1), (y0, y1), H = ROOM["x"], ROOM["y"], ROOM["height"]
-    (wx0, wx1), (wz0, wz1) = WINDOW["x"], WINDOW["z"]
-    quads = [
+def shell_quads(room, window):
+    """Quads (inward faces) of the walls and ceiling of ``room`` (``x``, ``y`` ranges and
+    ``height``, metres) with ``window`` (``x``, ``z`` ranges) left open in the south wall."""
+    (x0, x1), (y0, y1), H = room["x"], room["y"], room["height"]
+    (wx0, wx1), (wz0, wz1) = window["x"], window["z"]
+    return [
         _wall_y(y0, x0, wx0, 0, H), _wall_y(y0, wx1, x1, 0, H),
         _wall_y(y0, wx0, wx1, 0, wz0), _wall_y(y0, wx0, wx1, wz1, H),
         ((x1, y1, 0), (x0, y1, 0), (x0, y1, H), (x1, y1, H)),
@@ -42,6 +43,13 @@ def walls(bars=True):
         ((x1, y0, 0), (x1, y1, 0), (x1, y1, H), (x1, y0, H)),
         ((x0, y1, H), (x1, y1, H), (x1, y0, H), (x0, y0, H)),
     ]
+
+
+def walls(bars=True):
+    """Walls and ceiling as one object (inward faces), the window opening left open."""
+    (x0, x1), (y0, y1) = ROOM["x"], ROOM["y"]
+    (wx0, wx1), (wz0, wz1) = WINDOW["x"], WINDOW["z"]
+    quads = shell_quads(ROOM, WINDOW)
     paint = C.plain_material("Wall_Paint", (0.7, 0.68, 0.64), 0.9)
     room = mesh_from_quads("Walls", quads, material=paint)
     if bars:

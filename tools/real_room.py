@@ -61,25 +61,14 @@ ROLE_RECIPES = {"sofa": "DYED_FABRIC", "curtain": "DYED_FABRIC", "tall_cabinet":
                 "cabinet": "PAINTED_WOOD", "stool": "PAINTED_WOOD"}
 
 
-def _wall_y(y, x0, x1, z0, z1):
-    return ((x0, y, z0), (x1, y, z0), (x1, y, z1), (x0, y, z1))
-
-
 def shell():
     """Floor, walls and ceiling (inward faces, one object each), the window left open."""
     from scenes import common as C
+    from scenes.daylight_room import shell_quads
     from scenes.meshes import mesh_from_quads
 
-    (x0, x1), (y0, y1), H = ROOM["x"], ROOM["y"], ROOM["height"]
-    (wx0, wx1), (wz0, wz1) = WINDOW["x"], WINDOW["z"]
-    walls = [
-        _wall_y(y0, x0, wx0, 0, H), _wall_y(y0, wx1, x1, 0, H),
-        _wall_y(y0, wx0, wx1, 0, wz0), _wall_y(y0, wx0, wx1, wz1, H),
-        ((x1, y1, 0), (x0, y1, 0), (x0, y1, H), (x1, y1, H)),
-        ((x0, y1, 0), (x0, y0, 0), (x0, y0, H), (x0, y1, H)),
-        ((x1, y0, 0), (x1, y1, 0), (x1, y1, H), (x1, y0, H)),
-        ((x0, y1, H), (x1, y1, H), (x1, y0, H), (x0, y0, H)),
-    ]
+    (x0, x1), (y0, y1) = ROOM["x"], ROOM["y"]
+    walls = shell_quads(ROOM, WINDOW)
     mesh_from_quads("Walls", walls, material=C.plain_material("Wall_Paint", (0.7, 0.68, 0.64), 0.9))
     floor = ((x0, y0, 0), (x1, y0, 0), (x1, y1, 0), (x0, y1, 0))
     mesh_from_quads("Floor", [floor], material=C.plain_material("Floor_Oak", (0.45, 0.3, 0.18), 0.6))
