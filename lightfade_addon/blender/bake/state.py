@@ -109,8 +109,11 @@ class BakeState(Undo):
         return False
 
     def configure(self, samples, margin, seed=0):
-        """Cycles CPU, DIFFUSE pass with direct and indirect light and no colour, into
-        the active Image Texture nodes, kept in memory: the one place bake options are set.
+        """DIFFUSE pass with direct and indirect light and no colour, into the active
+        Image Texture nodes, kept in memory: the one place bake options are set. Cycles
+        bakes on the scene's own device (Render Properties > Device: *GPU Compute* bakes
+        on the GPUs chosen in Preferences > System; Cycles falls back to the CPU where
+        there is none).
 
         Sample clamping is off: Cycles clamps a path's contribution *before* the pass is
         divided by the surface's colour, and a baked texel is white (:mod:`.surface`), so
@@ -124,7 +127,6 @@ class BakeState(Undo):
         scene = self.scene
         cycles, bake = scene.cycles, scene.render.bake
         for struct, name, value in (
-            (cycles, "device", "CPU"),
             (cycles, "samples", int(samples)),
             (cycles, "use_adaptive_sampling", False),
             (cycles, "use_denoising", False),
