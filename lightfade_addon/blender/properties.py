@@ -349,6 +349,20 @@ class LIGHTFADE_PG_scene(PropertyGroup):
         min=1,
         max=65536,
     )
+    aged_rays: EnumProperty(
+        name="Aged Colour On",
+        description="Which rays see the aged colour (taken at Age). The others see the "
+        "original colour: the aging group is then skipped on them, which makes renders "
+        "cheaper",
+        items=(
+            ("VISIBLE", "Visible Rays", "Camera, glossy and transmission rays see the aged "
+             "colour; diffuse bounce light keeps the original colour"),
+            ("CAMERA", "Camera Rays", "Only what the camera sees directly is aged; "
+             "reflections and bounce light keep the original colour (cheapest)"),
+            ("ALL", "All Rays", "Every ray, bounce light included (slowest)"),
+        ),
+        default="VISIBLE",
+    )
     bake_margin: IntProperty(
         name="Margin",
         description="Pixels the baked exposure is extended past UV island borders (avoids seams)",

@@ -7,13 +7,27 @@ a shaded object, or a mesh shared by linked duplicates, gives each object its ow
 without making anything single user — and :func:`insert_group` puts the aging node
 group between the copy's own Base Color graph and its BSDF.  :func:`remove_copy` puts the slots back exactly (link and
 object-level material) and deletes the copy and the group trees made for it.
+
+**The ray gate** (:func:`gate_rays`, the scene's *Aged Colour On* setting,
+``Scene.lightfade.aged_rays``). The group costs far more per shading point than the
+artist's own graph, and most of a render's shading points past the first bounce only
+feed diffuse bounce light, where the aged colour changes little. So the copy's BSDF
+is duplicated once more with the *original* colour, and a Mix Shader picks one of the
+two by the Light Path node: the aged BSDF for camera rays (``CAMERA``), or for every
+ray but diffuse bounces (``VISIBLE``, the default: mirrors, glossy and refraction show
+the aged colour too), the original one for the rest. Cycles compiles a Mix Shader's
+two closures behind ``NODE_JUMP_IF_ONE`` / ``NODE_JUMP_IF_ZERO`` (``scene/svm.cpp``,
+``generate_multi_closure``): with a factor of exactly 0 or 1 the other BSDF and the
+nodes only it depends on (the whole aging group) are skipped. ``ALL`` inserts no gate
+(the aged colour everywhere, bounce light included). The gate lives in the copy, so
+Reset, which deletes the copy, undoes it exactly.
 """
 
 from __future__ import annotations
 
 import bpy
 
-from ..source import tree_at
+from ..source import GATE_MIX, tree_at
 
 AGED_PREFIX = "LF_Aged_"
 #: Name of the group node that ages the Base Color in a copy.
@@ -22,6 +36,13 @@ GROUP_NODE = "LightFade Aging"
 APPLIED_NAME = "LightFade Applied Aging"
 #: Custom property tagging node trees copied for a copy (removed with it).
 TREE_TAG = "lightfade_copy"
+#: Names of the ray gate's nodes (:func:`gate_rays`).
+GATE_BSDF = "LightFade Original BSDF"
+GATE_PATH = "LightFade Ray Type"
+GATE_FAC = "LightFade Ray Choice"
+#: Node properties never copied onto the gate's duplicate BSDF.
+_OWN = {"name", "label", "location", "location_absolute", "select", "parent", "dimensions",
+        "width", "height", "show_options", "show_preview", "show_texture", "warning_propagation"}
 
 
 def copy_name(material, obj):
@@ -125,6 +146,75 @@ def insert_group(copy, colour, group):
     group[TREE_TAG] = True
     tree.links.new(node.outputs[0], socket)
     return node
+
+
+def _duplicate(tree, node):
+    """A new node of ``node``'s type with its settings, input values and input links."""
+    dup = tree.nodes.new(node.bl_idname)
+    for prop in node.bl_rna.properties:
+        key = prop.identifier
+        if prop.is_readonly or key in _OWN or key.startswith("bl_"):
+            continue
+        try:
+            setattr(dup, key, getattr(node, key))
+        except (AttributeError, TypeError, ValueError):
+            pass                                  # a property this type only reads
+    for source, target in zip(node.inputs, dup.inputs):
+        if hasattr(source, "default_value"):
+            target.default_value = source.default_value
+        for link in source.links:
+            tree.links.new(link.from_socket, target)
+    return dup
+
+
+def gate_rays(copy, colour, rays):
+    """Show the aged colour (the BSDF of ``colour``, fed by the aging group) only on the
+    rays ``rays`` names; the others see a duplicate BSDF with the original colour.
+
+    ``rays``: ``ALL`` (no gate), ``VISIBLE`` (all but diffuse bounces) or ``CAMERA``.
+    Returns the gate's Mix Shader (None without one). Idempotent: a tree that has its
+    gate keeps it.
+    """
+    tree, socket = _colour_socket(copy, colour)
+    bsdf, node = tree.nodes[colour.node], tree.nodes.get(GROUP_NODE)
+    if node is None:
+        return None
+    shaders = [(out, list(out.links)) for out in bsdf.outputs if out.type == "SHADER"]
+    if rays == "ALL" or tree.nodes.get(GATE_MIX) is not None \
+            or not any(links for _o, links in shaders):
+        return None
+    original = _duplicate(tree, bsdf)
+    original.name = original.label = GATE_BSDF
+    original.location = (bsdf.location.x, bsdf.location.y - 40)
+    mine = original.inputs[list(bsdf.inputs).index(socket)]
+    feed = node.inputs[0].links[0].from_socket if node.inputs[0].links else None
+    if feed is not None:
+        tree.links.new(feed, mine)
+    else:
+        mine.default_value = node.inputs[0].default_value
+    path = tree.nodes.new("ShaderNodeLightPath")
+    path.name = path.label = GATE_PATH
+    path.location = (bsdf.location.x, bsdf.location.y + 260)
+    mix = tree.nodes.new("ShaderNodeMixShader")
+    mix.name = mix.label = GATE_MIX
+    mix.location = (bsdf.location.x + 300, bsdf.location.y)
+    if rays == "CAMERA":
+        tree.links.new(path.outputs["Is Camera Ray"], mix.inputs["Fac"])
+    else:                                          # 1 - is a diffuse bounce: exactly 0 or 1
+        fac = tree.nodes.new("ShaderNodeMath")
+        fac.name = fac.label = GATE_FAC
+        fac.operation = "SUBTRACT"
+        fac.inputs[0].default_value = 1.0
+        fac.location = (bsdf.location.x + 150, bsdf.location.y + 200)
+        tree.links.new(path.outputs["Is Diffuse Ray"], fac.inputs[1])
+        tree.links.new(fac.outputs[0], mix.inputs["Fac"])
+    for out, links in shaders:
+        for link in links:
+            tree.links.new(mix.outputs[0], link.to_socket)
+    first = shaders[0][0]
+    tree.links.new(original.outputs[first.identifier], mix.inputs[1])      # Fac 0
+    tree.links.new(first, mix.inputs[2])                                   # Fac 1: aged
+    return mix
 
 
 def remove_copy(copy):

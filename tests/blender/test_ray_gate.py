@@ -1,0 +1,101 @@
+"""The ray gate of an aged copy (Scene > LightFade > Aged Colour On): the aged BSDF on
+the rays it names, a duplicate with the original colour on the others, undone by Reset."""
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from tests.blender.test_material_aging import (  # noqa: E402
+    _bake_and_age,
+    _camera_and_render_settings,
+    _render,
+    textured,  # noqa: F401  (fixture)
+)
+
+
+def _age(rays, years=25):
+    bpy.context.scene.lightfade.aged_rays = rays
+    _bake_and_age(years=years)
+    from lightfade_addon.blender.aging.copies import copies_of
+
+    return copies_of(bpy.data.materials["Carpet"])[0]
+
+
+def _feed(socket):
+    return socket.links[0].from_node if socket.links else None
+
+
+@pytest.mark.parametrize("rays, output", [("VISIBLE", "Is Diffuse Ray"),
+                                          ("CAMERA", "Is Camera Ray")])
+def test_the_gate_picks_the_aged_bsdf_on_its_rays(textured, rays, output):
+    from lightfade_addon.blender.aging.copies import GATE_BSDF, GATE_MIX, GROUP_NODE
+
+    tree = _age(rays).node_tree
+    mix = tree.nodes[GATE_MIX]
+    aged, original = _feed(mix.inputs[2]), _feed(mix.inputs[1])
+    assert aged.name == "Principled BSDF" and original.name == GATE_BSDF
+    assert _feed(aged.inputs["Base Color"]).name == GROUP_NODE
+    assert _feed(original.inputs["Base Color"]).type == "TEX_IMAGE"     # the artist's colour
+    assert original.inputs["Roughness"].default_value == aged.inputs["Roughness"].default_value
+    assert original.distribution == aged.distribution
+    link = mix.inputs["Fac"].links[0]
+    if rays == "VISIBLE":                                # 1 - Is Diffuse Ray
+        fac = link.from_node
+        assert fac.operation == "SUBTRACT" and fac.inputs[0].default_value == 1.0
+        link = fac.inputs[1].links[0]
+    assert link.from_node.type == "LIGHT_PATH" and link.from_socket.name == output
+    out = tree.get_output_node("ALL") or tree.get_output_node("CYCLES")
+    assert _feed(out.inputs["Surface"]) == mix
+
+
+def test_all_rays_inserts_no_gate(textured):
+    from lightfade_addon.blender.aging.copies import GATE_MIX
+
+    assert GATE_MIX not in _age("ALL").node_tree.nodes
+
+
+@pytest.mark.parametrize("rays", ["VISIBLE", "CAMERA"])
+def test_the_camera_sees_the_aged_colour_through_the_gate(textured, tmp_path, rays):
+    """Without bounces every shading point is a camera ray's: the gated render is the
+    ungated one pixel for pixel, and both differ from the original."""
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    scene.cycles.max_bounces = 0
+    before = _render(scene, tmp_path, "before.exr")
+    _age("ALL")
+    everywhere = _render(scene, tmp_path, "all.exr")
+    api.reset(scene)
+    _age(rays)
+    gated = _render(scene, tmp_path, "gated.exr")
+    assert np.abs(gated - everywhere).max() <= 1e-6
+    assert np.abs(gated - before).max() > 0.02
+
+
+def test_zero_years_with_the_gate_renders_the_original_pixels(textured, tmp_path):
+    """Bounces on (the box sees the floor through diffuse rays): 0 years is the original."""
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    before = _render(scene, tmp_path, "before.exr")
+    copy = _age("VISIBLE", years=0)
+    assert "LightFade Ray Gate" in copy.node_tree.nodes
+    assert np.abs(_render(scene, tmp_path, "after.exr") - before).max() <= 1e-6
+
+
+def test_reset_leaves_no_gate_and_a_changed_setting_is_stale(textured):
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging.runtime import signature
+
+    material = bpy.data.materials["Carpet"]
+    names = sorted(n.name for n in material.node_tree.nodes)
+    copy = _age("VISIBLE")
+    scene = bpy.context.scene
+    old = signature(scene, copy)
+    scene.lightfade.aged_rays = "CAMERA"
+    assert signature(scene, copy) != old
+    api.reset(scene)
+    assert sorted(n.name for n in material.node_tree.nodes) == names
+    assert not any(n.name.startswith("LightFade") for m in bpy.data.materials
+                   for n in m.node_tree.nodes)
