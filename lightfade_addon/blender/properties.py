@@ -352,16 +352,16 @@ class LIGHTFADE_PG_scene(PropertyGroup):
     aged_rays: EnumProperty(
         name="Aged Colour On",
         description="Which rays see the aged colour (taken at Age). The others see the "
-        "original colour: the aging group is then skipped on them, which makes renders "
-        "cheaper",
+        "original colour and skip the aging group: cheaper renders, but bounce light "
+        "keeps the original colour",
         items=(
+            ("ALL", "All Rays", "Every ray, bounce light included: the exact render"),
             ("VISIBLE", "Visible Rays", "Camera, glossy and transmission rays see the aged "
-             "colour; diffuse bounce light keeps the original colour"),
+             "colour; diffuse bounce light keeps the original colour (faster)"),
             ("CAMERA", "Camera Rays", "Only what the camera sees directly is aged; "
-             "reflections and bounce light keep the original colour (cheapest)"),
-            ("ALL", "All Rays", "Every ray, bounce light included (slowest)"),
+             "reflections and bounce light keep the original colour (fastest)"),
         ),
-        default="VISIBLE",
+        default="ALL",
     )
     bake_margin: IntProperty(
         name="Margin",

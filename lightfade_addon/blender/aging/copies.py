@@ -10,17 +10,18 @@ object-level material) and deletes the copy and the group trees made for it.
 
 **The ray gate** (:func:`gate_rays`, the scene's *Aged Colour On* setting,
 ``Scene.lightfade.aged_rays``). The group costs far more per shading point than the
-artist's own graph, and most of a render's shading points past the first bounce only
-feed diffuse bounce light, where the aged colour changes little. So the copy's BSDF
-is duplicated once more with the *original* colour, and a Mix Shader picks one of the
-two by the Light Path node: the aged BSDF for camera rays (``CAMERA``), or for every
-ray but diffuse bounces (``VISIBLE``, the default: mirrors, glossy and refraction show
-the aged colour too), the original one for the rest. Cycles compiles a Mix Shader's
-two closures behind ``NODE_JUMP_IF_ONE`` / ``NODE_JUMP_IF_ZERO`` (``scene/svm.cpp``,
+artist's own graph. With the gate, the copy's BSDF is duplicated once more with the
+*original* colour, and a Mix Shader picks one of the two by the Light Path node: the
+aged BSDF for camera rays (``CAMERA``), or for every ray but diffuse bounces
+(``VISIBLE``: mirrors, glossy and refraction show the aged colour too), the original
+one for the rest. Cycles compiles a Mix Shader's two closures behind
+``NODE_JUMP_IF_ONE`` / ``NODE_JUMP_IF_ZERO`` (``scene/svm.cpp``,
 ``generate_multi_closure``): with a factor of exactly 0 or 1 the other BSDF and the
-nodes only it depends on (the whole aging group) are skipped. ``ALL`` inserts no gate
-(the aged colour everywhere, bounce light included). The gate lives in the copy, so
-Reset, which deletes the copy, undoes it exactly.
+nodes only it depends on (the whole aging group) are skipped. ``ALL``, the default,
+inserts no gate: the gate's bounce light keeps the original colour, which a room lit
+by its own walls shows (``benchmarks/live_room.py`` measures that error beside the
+time the gate saves). The gate lives in the copy, so Reset, which deletes the copy,
+undoes it exactly.
 """
 
 from __future__ import annotations

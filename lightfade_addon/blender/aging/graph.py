@@ -11,6 +11,9 @@ from __future__ import annotations
 
 _COLUMN = 180
 _ROW = 120
+#: The Vector Mix node's sockets (Factor_Float, A_Vector, B_Vector; Result_Vector),
+#: the same on Blender 4.2 and 5.x.
+_MIX_FACTOR, _MIX_A, _MIX_B, _MIX_RESULT = 0, 4, 5, 1
 
 
 class Sock:
@@ -111,6 +114,13 @@ class Graph:
         node = self.node("ShaderNodeValue")
         node.outputs[0].default_value = v
         return self.out(node)
+
+    def lerp(self, a, b, f):
+        """``a + f (b - a)`` of vectors ``a``, ``b`` and a float ``f``: one Mix node
+        (Vector, uniform factor, unclamped), ``a`` itself where ``f`` is 0."""
+        node = self.node("ShaderNodeMix", {_MIX_FACTOR: f, _MIX_A: a, _MIX_B: b},
+                         data_type="VECTOR", factor_mode="UNIFORM", clamp_factor=False)
+        return self.out(node, _MIX_RESULT)
 
     def combine(self, x, y, z=0.0):
         return self.out(self.node("ShaderNodeCombineXYZ", (x, y, z)))
