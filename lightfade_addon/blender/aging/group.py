@@ -14,7 +14,8 @@ Stages (node names start with the stage; the group reads left to right):
 ``years``, ``uv``
     the scene's years; the exposure UV map.
 ``rates``
-    each exposure map (Linear) times its hours a year, summed per spectrum: lux·h a year.
+    each exposure map (Linear) times its hours a year, summed per spectrum: lux·h a year
+    (in units of the dose axis's ``low`` dose, which the mix's ratios do not see).
 ``dose``
     the dose ``d = years · Σ rates`` and its fractional node
     ``s = min(d / low, 1) + per_decade · log10(max(d, low) / low)`` (at most ``T - 1``),
@@ -64,7 +65,7 @@ from .years import YEARS_PROP
 from .graph import Graph, Sock
 
 #: Bumped whenever the group's nodes change: an older group is rebuilt (Age).
-GROUP_VERSION = 4
+GROUP_VERSION = 5
 #: Custom property on the group tree holding :data:`GROUP_VERSION`.
 VERSION_KEY = "lightfade_aging_version"
 
@@ -98,12 +99,13 @@ def _interface(tree):
 
 
 def _rates(g, spec, uv):
-    """Annual dose per spectrum (lux·h a year) at the shading point, and their total."""
+    """Annual dose per spectrum at the shading point, and their total, in units of the
+    dose axis's node 1 (``low_dose`` lux·h) a year: ``lux · hours / low``."""
     g.stage = "rates"
     rates = [None] * spec.S
     for m in spec.maps:
         colour, _alpha = g.image(m.image, uv, "Linear", "EXTEND")
-        lux = g.separate(colour)[0].max(0.0) * float(m.hours)
+        lux = g.separate(colour)[0].max(0.0) * (float(m.hours) / float(spec.low_dose))
         k = m.spectrum
         rates[k] = lux if rates[k] is None else rates[k] + lux
     rates = [r if r is not None else g.value(0.0) for r in rates]
@@ -115,10 +117,8 @@ def _rates(g, spec, uv):
 
 def _dose(g, spec, years, total):
     g.stage = "dose"
-    d = total * years
-    low = float(spec.low_dose)
+    x = total * years                             # d / low; max(d, low) / low = max(x, 1)
     k = float(spec.per_decade) / math.log(10.0)
-    x = d * (1.0 / low)                           # max(d, low) / low = max(x, 1)
     s = g.math("MULTIPLY_ADD", x.max(1.0).ln(), k, x.min(1.0))
     s = s.min(float(spec.T - 1))
     t = s.floor().min(float(spec.T - 2))
@@ -187,7 +187,7 @@ def _cube(g, spec, colour):
     g.stage = "cube"
     inv = 1.0 / float(spec.gamma)
     clipped = g.vector("MINIMUM", g.vector("MAXIMUM", colour, (0.0, 0.0, 0.0)), (1.0, 1.0, 1.0))
-    r, gg, b = (c ** inv for c in g.separate(clipped))
+    r, gg, b = g.separate(g.power(clipped, (inv, inv, inv)))
     b = b * float(spec.side - 1)
     b0 = b.floor().min(float(spec.side - 2))
     return r, gg, b0, b - b0
@@ -241,7 +241,7 @@ def _colour(g, colour, change):
     g.stage = "colour"
     to_XYZ = linear_srgb_to_XYZ(np.eye(3)).T            # rows: X, Y, Z of (r, g, b)
     to_rgb = XYZ_to_linear_srgb(np.eye(3)).T
-    e = g.combine(*(c.exp() for c in g.separate(change)))
+    e = g.power((math.e, math.e, math.e), change)
     XYZ = g.combine(*(g.vector("DOT_PRODUCT", colour, tuple(map(float, row)))
                       for row in to_XYZ))
     aged = g.vector("MULTIPLY", XYZ, e)
@@ -292,6 +292,7 @@ def build(tree, spec):
     g.stage = "io"
     gout = g.node("NodeGroupOutput", (result,))
     gout.is_active_output = True
+    g.prune()
     tree[VERSION_KEY] = GROUP_VERSION
     return tree
 
