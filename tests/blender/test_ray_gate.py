@@ -99,3 +99,36 @@ def test_reset_leaves_no_gate_and_a_changed_setting_is_stale(textured):
     assert sorted(n.name for n in material.node_tree.nodes) == names
     assert not any(n.name.startswith("LightFade") for m in bpy.data.materials
                    for n in m.node_tree.nodes)
+
+
+def test_a_bsdf_inside_a_node_group_is_gated_in_the_copy_s_group(textured, tmp_path):
+    """The colour BSDF inside a node group: the gate goes into the copy's private group
+    (the user's stays as it was), and the camera still sees the aged colour."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging.copies import GATE_MIX
+
+    tree = textured["material"].node_tree
+    group = bpy.data.node_groups.new("Wrapped", "ShaderNodeTree")
+    group.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
+    group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
+    gin, gout = group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
+    inner = group.nodes.new("ShaderNodeBsdfPrincipled")
+    group.links.new(gin.outputs["Color"], inner.inputs["Base Color"])
+    group.links.new(inner.outputs["BSDF"], gout.inputs["Shader"])
+    node = tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = group
+    texture = next(n for n in tree.nodes if n.type == "TEX_IMAGE")
+    tree.links.new(texture.outputs["Color"], node.inputs["Color"])
+    tree.links.new(node.outputs["Shader"], tree.nodes["Material Output"].inputs["Surface"])
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    scene.cycles.max_bounces = 0
+    _age("ALL")
+    everywhere = _render(scene, tmp_path, "all.exr")
+    api.reset(scene)
+    copy = _age("VISIBLE")
+    private = copy.node_tree.nodes[node.name].node_tree
+    assert private != group and GATE_MIX in private.nodes
+    assert sorted(n.type for n in group.nodes) == ["BSDF_PRINCIPLED", "GROUP_INPUT",
+                                                   "GROUP_OUTPUT"]
+    assert np.abs(_render(scene, tmp_path, "gated.exr") - everywhere).max() <= 1e-6
