@@ -14,7 +14,8 @@ Dyed Fabric), lit by a sun through the open side (daylight) and a ceiling lamp
   added against what the exposure maps added;
 * **render** — Cycles CPU time (process CPU seconds) of the aged room at 25 years and
   of the same render after Reset, two of each (the smaller counts), and their
-  ratio, for each *Aged Colour On* setting (the ray gate, :func:`..copies.gate_rays`);
+  ratio, for each *Aged Colour On* setting (the ray gate, :func:`..copies.gate_rays`),
+  and at 0 years;
   with ``--eevee`` EEVEE renders before and after the aged shaders compile;
 * **bounce error** — what the gate costs in colour: ΔE00 (p50 / p99) of 8 × 8-pixel
   means of each gated render against the ungated (``ALL``) one, beside the same
@@ -205,12 +206,17 @@ def main(argv=None):
             scene.cycles.seed = 1
             px["seed"] = render(scene, "CYCLES", args.samples, res, folder, "seed")[2]
             scene.cycles.seed = 0
+            api.set_years(scene, 0.0)
+            cpu["zero"] = min(render(scene, "CYCLES", args.samples, res, folder, f"zero{k}")[0]
+                              for k in range(2))
+            api.set_years(scene, 25.0)
     scene.lightfade.aged_rays = "VISIBLE"
     api.reset(scene)
     reset = min(render(scene, "CYCLES", args.samples, res, folder, f"reset{k}")[0]
                 for k in range(2))
     print(f"Cycles {res[0]}x{res[1]}, {args.samples} spp, CPU time after Reset {reset:.2f} s; "
           f"aged at 25 years (target <= 1.15x):")
+    print(f"  at 0 years (All Rays)          {cpu['zero']:6.2f} s: {cpu['zero'] / reset:.2f}x")
     for rays in ("ALL", "VISIBLE", "CAMERA"):
         print(f"  Aged Colour On {rays:8s} {cpu[rays]:6.2f} s: {cpu[rays] / reset:.2f}x")
     for name in ("VISIBLE", "CAMERA", "seed"):

@@ -39,20 +39,61 @@ def test_the_gate_picks_the_aged_bsdf_on_its_rays(textured, rays, output):
     assert _feed(original.inputs["Base Color"]).type == "TEX_IMAGE"     # the artist's colour
     assert original.inputs["Roughness"].default_value == aged.inputs["Roughness"].default_value
     assert original.distribution == aged.distribution
-    link = mix.inputs["Fac"].links[0]
+    both = mix.inputs["Fac"].links[0].from_node             # ray choice × (years > 0)
+    assert both.operation == "MULTIPLY"
+    ray, aged_years = (s.links[0].from_socket for s in both.inputs[:2])
     if rays == "VISIBLE":                                # 1 - Is Diffuse Ray
-        fac = link.from_node
+        fac = ray.node
         assert fac.operation == "SUBTRACT" and fac.inputs[0].default_value == 1.0
-        link = fac.inputs[1].links[0]
-    assert link.from_node.type == "LIGHT_PATH" and link.from_socket.name == output
+        ray = fac.inputs[1].links[0].from_socket
+    assert ray.node.type == "LIGHT_PATH" and ray.name == output
+    _assert_years_above_zero(aged_years)
     out = tree.get_output_node("ALL") or tree.get_output_node("CYCLES")
     assert _feed(out.inputs["Surface"]) == mix
 
 
-def test_all_rays_inserts_no_gate(textured):
+def _assert_years_above_zero(socket):
+    node = socket.node
+    assert node.operation == "GREATER_THAN" and node.inputs[1].default_value == 0.0
+    years = node.inputs[0].links[0].from_node
+    assert years.type == "ATTRIBUTE" and years.attribute_type == "VIEW_LAYER"
+    assert years.attribute_name == "lightfade_years"
+
+
+def test_all_rays_gates_zero_years_only(textured):
     from lightfade_addon.blender.aging.copies import GATE_MIX
 
+    mix = _age("ALL").node_tree.nodes[GATE_MIX]
+    _assert_years_above_zero(mix.inputs["Fac"].links[0].from_socket)
+
+
+def test_a_texture_with_a_history_keeps_the_aged_bsdf_at_zero_years(textured):
+    """Its 0 years is the restoration: all rays and no years gate, so no gate at all."""
+    from lightfade_addon.blender.aging.copies import GATE_MIX
+
+    textured["material"].lightfade.already_years = 10.0
     assert GATE_MIX not in _age("ALL").node_tree.nodes
+
+
+def test_zero_years_skips_the_group_in_cycles(textured, tmp_path):
+    """At 0 years the gate shows the original BSDF: a render with the aging group's
+    output broken (NaN colour) is still the original, pixel for pixel."""
+    from lightfade_addon.blender.aging.copies import GROUP_NODE
+
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    before = _render(scene, tmp_path, "before.exr")
+    copy = _age("ALL", years=0)
+    group = copy.node_tree.nodes[GROUP_NODE].node_tree
+    out = next(n for n in group.nodes if n.type == "GROUP_OUTPUT")
+    poison = group.nodes.new("ShaderNodeCombineXYZ")
+    poison.inputs[0].default_value = float("nan")
+    group.links.new(poison.outputs[0], out.inputs[0])
+    assert np.abs(_render(scene, tmp_path, "after.exr") - before).max() <= 1e-6
+    from lightfade_addon import api
+
+    api.set_years(scene, 1.0)                          # the broken group shows now
+    assert not np.allclose(_render(scene, tmp_path, "one.exr"), before, atol=1e-3)
 
 
 @pytest.mark.parametrize("rays", ["VISIBLE", "CAMERA"])
