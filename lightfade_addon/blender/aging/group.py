@@ -47,8 +47,8 @@ nodes: vector nodes for three channels at once, a Mix node for each linear
 interpolation (``a`` itself at factor 0: the switch), constants folded into the
 multiply-adds, floats broadcast once (Combine XYZ) instead of converted at every use.
 ``benchmarks/live_room.py`` measures the render against the same room after Reset;
-the scene's *Aged Colour On* (:func:`..copies.gate_rays`) keeps the group off the rays
-it does not name.
+the copy's gate (:func:`..copies.gate_rays`) keeps the group off at 0 years and off the
+rays the scene's *Aged Colour On* leaves out.
 """
 
 from __future__ import annotations
