@@ -13,8 +13,13 @@ Dyed Fabric), lit by a sun through the open side (daylight) and a ceiling lamp
 * **file** — bytes of the saved file: original, after the bake, after Age; what Age
   added against what the exposure maps added;
 * **render** — Cycles CPU time (process CPU seconds) of the aged room at 25 years and
-  of the same render after Reset, alternated twice (the smaller of each), and their
-  ratio; with ``--eevee`` EEVEE renders before and after the aged shaders compile;
+  of the same render after Reset, two of each (the smaller counts), and their
+  ratio, for each *Aged Colour On* setting (the ray gate, :func:`..copies.gate_rays`),
+  and at 0 years;
+  with ``--eevee`` EEVEE renders before and after the aged shaders compile;
+* **bounce error** — what the gate costs in colour: ΔE00 (p50 / p99) of 8 × 8-pixel
+  means of each gated render against the ungated (``ALL``) one, beside the same
+  figure for two ungated renders with different seeds (the noise floor);
 * **huge years** — the 20-year render, then 1e9 years, then 20 years again: the largest
   pixel difference between the two 20-year renders.
 """
@@ -128,6 +133,21 @@ def render(scene, engine, samples, size, folder, name):
     return cpu, wall, px.reshape(size[1], size[0], 4)
 
 
+def block_dE(a, b, block=8):
+    """ΔE00 between the ``block`` × ``block``-pixel means of two renders (noise averaged),
+    both scaled by the same factor so that ``b``'s 99th percentile is white."""
+    from lightfade_addon.core.colour.colorimetry import XYZ_to_Lab, delta_E_2000, linear_srgb_to_XYZ
+
+    scale = 1.0 / max(float(np.percentile(b[..., :3], 99)), 1e-6)
+
+    def lab(x):
+        H, W = (x.shape[0] // block) * block, (x.shape[1] // block) * block
+        m = scale * x[:H, :W, :3].reshape(H // block, block, W // block, block, 3).mean((1, 3))
+        return XYZ_to_Lab(linear_srgb_to_XYZ(np.clip(m, 0.0, 1.0).reshape(-1, 3)))
+
+    return delta_E_2000(lab(a), lab(b))
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--size", type=int, default=1024, help="texture side (px)")
@@ -176,17 +196,34 @@ def main(argv=None):
     print(f"huge years: 20 y vs 1e9 y differ by up to {np.abs(huge - twenty).max():.3f}; "
           f"20 y again vs 20 y: max difference {np.abs(back - twenty).max():.2e}")
 
-    api.set_years(scene, 25.0)
-    live, reset = [], []
-    for k in range(2):
-        live.append(render(scene, "CYCLES", args.samples, res, folder, f"live{k}")[0])
-        api.reset(scene)
-        reset.append(render(scene, "CYCLES", args.samples, res, folder, f"reset{k}")[0])
-        if k == 0:
-            api.age_scene(scene, years=25.0)
-    print(f"Cycles {res[0]}x{res[1]}, {args.samples} spp, CPU time: aged at 25 years "
-          f"{min(live):.2f} s, after Reset {min(reset):.2f} s: {min(live) / min(reset):.2f}x "
-          f"(target <= 1.15x)")
+    cpu, px = {}, {}
+    for rays in ("ALL", "VISIBLE", "CAMERA"):
+        scene.lightfade.aged_rays = rays
+        api.age_scene(scene, years=25.0)
+        runs = [render(scene, "CYCLES", args.samples, res, folder, f"{rays}{k}") for k in range(2)]
+        cpu[rays], px[rays] = min(r[0] for r in runs), runs[0][2]
+        if rays == "ALL":
+            scene.cycles.seed = 1
+            px["seed"] = render(scene, "CYCLES", args.samples, res, folder, "seed")[2]
+            scene.cycles.seed = 0
+            api.set_years(scene, 0.0)
+            cpu["zero"] = min(render(scene, "CYCLES", args.samples, res, folder, f"zero{k}")[0]
+                              for k in range(2))
+            api.set_years(scene, 25.0)
+    scene.lightfade.aged_rays = "VISIBLE"
+    api.reset(scene)
+    reset = min(render(scene, "CYCLES", args.samples, res, folder, f"reset{k}")[0]
+                for k in range(2))
+    print(f"Cycles {res[0]}x{res[1]}, {args.samples} spp, CPU time after Reset {reset:.2f} s; "
+          f"aged at 25 years (target <= 1.15x):")
+    print(f"  at 0 years (All Rays)          {cpu['zero']:6.2f} s: {cpu['zero'] / reset:.2f}x")
+    for rays in ("ALL", "VISIBLE", "CAMERA"):
+        print(f"  Aged Colour On {rays:8s} {cpu[rays]:6.2f} s: {cpu[rays] / reset:.2f}x")
+    for name in ("VISIBLE", "CAMERA", "seed"):
+        d = block_dE(px[name], px["ALL"])
+        label = "ALL, another seed (noise)" if name == "seed" else name
+        print(f"  bounce error {label:26s} vs ALL: dE00 of 8x8 means p50 {np.median(d):.2f}, "
+              f"p99 {np.percentile(d, 99):.2f}")
     if args.eevee:
         engine = "BLENDER_EEVEE_NEXT" if bpy.app.version < (4, 2, 0) or \
             "BLENDER_EEVEE_NEXT" in {e.identifier for e in

@@ -43,6 +43,7 @@ from bpy.types import PropertyGroup
 from .part_properties import REST_ITEMS, LIGHTFADE_PG_lane, LIGHTFADE_PG_part
 from .aging.years import SOFT_MAX_YEARS, get_years, write_years
 from .vocabulary import (
+    AGED_RAYS_ITEMS,
     AUTO_SPECTRUM,
     PRIOR_SPECTRUM_ITEMS,
     EMITTER_KIND_ITEMS,
@@ -349,6 +350,9 @@ class LIGHTFADE_PG_scene(PropertyGroup):
         min=1,
         max=65536,
     )
+    aged_rays: EnumProperty(name="Aged Colour On", items=AGED_RAYS_ITEMS, default="ALL",
+                            description="Which rays see the aged colour (taken at Age); the "
+                            "others see the original colour and skip the aging group")
     bake_margin: IntProperty(
         name="Margin",
         description="Pixels the baked exposure is extended past UV island borders (avoids seams)",

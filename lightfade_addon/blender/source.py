@@ -80,6 +80,11 @@ def _upstream(socket):
     return None
 
 
+#: The Mix Shader of an aged copy's ray gate (:func:`.aging.copies.gate_rays`): its
+#: second shader is the aged BSDF, its first a duplicate with the original colour.
+GATE_MIX = "LightFade Ray Gate"
+
+
 def _group_output(tree):
     outs = [n for n in tree.nodes if n.type == "GROUP_OUTPUT"]
     return next((n for n in outs if n.is_active_output), outs[0] if outs else None)
@@ -104,6 +109,8 @@ def _walk(socket, groups, depth):
         return []
     if node.type in COLOUR_SOCKETS:
         return [(groups, node)]
+    if node.type == "MIX_SHADER" and node.name == GATE_MIX:
+        return _walk(node.inputs[2], groups, depth)
     if node.type == "MIX_SHADER":
         return _walk(node.inputs[1], groups, depth) + _walk(node.inputs[2], groups, depth)
     if node.type == "ADD_SHADER":

@@ -89,3 +89,14 @@ RECIPE_BLUE_WOOL = {
 
 RECIPE_ITEMS = tuple((key, _label(name), _recipes.RECIPES[name].description)
                      for key, name in RECIPE_IDS.items())
+
+
+#: Which rays see an aged copy's aged colour (``Scene.lightfade.aged_rays``, the ray gate
+#: of :func:`.aging.copies.gate_rays`); the others see the original colour.
+AGED_RAYS_ITEMS = (
+    ("ALL", "All Rays", "Every ray, bounce light included: the exact render"),
+    ("VISIBLE", "Visible Rays", "Camera, glossy and transmission rays see the aged colour; "
+     "diffuse bounce light keeps the original colour (faster)"),
+    ("CAMERA", "Camera Rays", "Only what the camera sees directly is aged; reflections and "
+     "bounce light keep the original colour (fastest)"),
+)

@@ -9,8 +9,13 @@ inputs, so the built group reads left to right in the node editor.
 
 from __future__ import annotations
 
+import bpy
+
 _COLUMN = 180
 _ROW = 120
+#: The Vector Mix node's sockets (Factor_Float, A_Vector, B_Vector; Result_Vector),
+#: the same on Blender 4.2 and 5.x.
+_MIX_FACTOR, _MIX_A, _MIX_B, _MIX_RESULT = 0, 4, 5, 1
 
 
 class Sock:
@@ -106,11 +111,43 @@ class Graph:
         node = self.node("ShaderNodeVectorMath", args, operation=op)
         return self.out(node, "Value" if op == "DOT_PRODUCT" else "Vector")
 
+    @property
+    def has_vector_power(self):
+        """Whether Vector Math has POWER (Blender 4.3 and later; not 4.2)."""
+        ops = bpy.types.ShaderNodeVectorMath.bl_rna.properties["operation"].enum_items
+        return "POWER" in ops
+
+    def power(self, base, exponent):
+        """``base ** exponent`` per channel of vector socks or constants: one Vector
+        Math node where Blender has POWER, else Separate, three Math and Combine."""
+        if self.has_vector_power:
+            return self.vector("POWER", base, exponent)
+        split = [self.separate(v) if isinstance(v, Sock) else [float(c) for c in v]
+                 for v in (base, exponent)]
+        return self.combine(*(self.math("POWER", b, e) for b, e in zip(*split)))
+
+    def prune(self):
+        """Remove the nodes whose outputs reach nothing (the group output stays)."""
+        while True:
+            dead = [n for n in self.tree.nodes if n.type not in ("GROUP_OUTPUT", "GROUP_INPUT")
+                    and not any(o.is_linked for o in n.outputs)]
+            if not dead:
+                return
+            for node in dead:
+                self.tree.nodes.remove(node)
+
     def value(self, v):
         """A constant as a Sock (a Value node)."""
         node = self.node("ShaderNodeValue")
         node.outputs[0].default_value = v
         return self.out(node)
+
+    def lerp(self, a, b, f):
+        """``a + f (b - a)`` of vectors ``a``, ``b`` and a float ``f``: one Mix node
+        (Vector, uniform factor, unclamped), ``a`` itself where ``f`` is 0."""
+        node = self.node("ShaderNodeMix", {_MIX_FACTOR: f, _MIX_A: a, _MIX_B: b},
+                         data_type="VECTOR", factor_mode="UNIFORM", clamp_factor=False)
+        return self.out(node, _MIX_RESULT)
 
     def combine(self, x, y, z=0.0):
         return self.out(self.node("ShaderNodeCombineXYZ", (x, y, z)))

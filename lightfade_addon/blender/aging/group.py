@@ -14,7 +14,8 @@ Stages (node names start with the stage; the group reads left to right):
 ``years``, ``uv``
     the scene's years; the exposure UV map.
 ``rates``
-    each exposure map (Linear) times its hours a year, summed per spectrum: lux·h a year.
+    each exposure map (Linear) times its hours a year, summed per spectrum: lux·h a year
+    (in units of the dose axis's ``low`` dose, which the mix's ratios do not see).
 ``dose``
     the dose ``d = years · Σ rates`` and its fractional node
     ``s = min(d / low, 1) + per_decade · log10(max(d, low) / low)`` (at most ``T - 1``),
@@ -22,11 +23,13 @@ Stages (node names start with the stage; the group reads left to right):
 ``mix``
     the light-mix vertices (slots) and weights of :func:`..core.table.simplex_slots`.
 ``cube``
-    the colour's cube coordinates ``u = clip(rgb, 0, 1) ** (1 / gamma) · (N - 1)``; the
-    blue node ``b = min(floor u_b, N - 2)``.
+    the colour's cube coordinates ``u = clip(rgb, 0, 1) ** (1 / gamma) · (N - 1)`` (the
+    factor ``N - 1`` of red and green folded into their atlas coordinates); the blue
+    node ``b = min(floor u_b, N - 2)``.
 ``table``
     per mix vertex, the four tiles (``b``, ``b + 1``) × (``t``, ``t + 1``), each looked up
-    with Linear interpolation (bilinear over red and green), linear over blue and dose.
+    with Linear interpolation (bilinear over red and green), linear over blue and dose
+    (Mix nodes), weighted over the vertices (two spectra: one more Mix).
     The lookups are Equirectangular Environment Textures, not Image Textures: EEVEE
     mip-maps an Image Texture, and the lookup coordinates jump between tiles at the
     artist's sharp colour edges, so it would read a blurred table there.
@@ -37,6 +40,15 @@ Stages (node names start with the stage; the group reads left to right):
 ``switch``
     zero years passes the original colour through untouched (not for a table with a
     history, whose dose 0 is the restoration).
+
+**Cost.** Cycles interprets the group per shading point, one SVM instruction per node
+plus one per implicit float-to-vector conversion, so the group is written in few
+nodes: vector nodes for three channels at once, a Mix node for each linear
+interpolation (``a`` itself at factor 0: the switch), constants folded into the
+multiply-adds, floats broadcast once (Combine XYZ) instead of converted at every use.
+``benchmarks/live_room.py`` measures the render against the same room after Reset;
+the copy's gate (:func:`..copies.gate_rays`) keeps the group off at 0 years and off the
+rays the scene's *Aged Colour On* leaves out.
 """
 
 from __future__ import annotations
@@ -53,7 +65,7 @@ from .years import YEARS_PROP
 from .graph import Graph, Sock
 
 #: Bumped whenever the group's nodes change: an older group is rebuilt (Age).
-GROUP_VERSION = 3
+GROUP_VERSION = 5
 #: Custom property on the group tree holding :data:`GROUP_VERSION`.
 VERSION_KEY = "lightfade_aging_version"
 
@@ -87,12 +99,13 @@ def _interface(tree):
 
 
 def _rates(g, spec, uv):
-    """Annual dose per spectrum (lux·h a year) at the shading point, and their total."""
+    """Annual dose per spectrum at the shading point, and their total, in units of the
+    dose axis's node 1 (``low_dose`` lux·h) a year: ``lux · hours / low``."""
     g.stage = "rates"
     rates = [None] * spec.S
     for m in spec.maps:
         colour, _alpha = g.image(m.image, uv, "Linear", "EXTEND")
-        lux = g.separate(colour)[0].max(0.0) * float(m.hours)
+        lux = g.separate(colour)[0].max(0.0) * (float(m.hours) / float(spec.low_dose))
         k = m.spectrum
         rates[k] = lux if rates[k] is None else rates[k] + lux
     rates = [r if r is not None else g.value(0.0) for r in rates]
@@ -104,10 +117,9 @@ def _rates(g, spec, uv):
 
 def _dose(g, spec, years, total):
     g.stage = "dose"
-    d = total * years
-    low = float(spec.low_dose)
+    x = total * years                             # d / low; max(d, low) / low = max(x, 1)
     k = float(spec.per_decade) / math.log(10.0)
-    s = (d * (1.0 / low)).min(1.0) + (d.max(low) * (1.0 / low)).ln() * k
+    s = g.math("MULTIPLY_ADD", x.max(1.0).ln(), k, x.min(1.0))
     s = s.min(float(spec.T - 1))
     t = s.floor().min(float(spec.T - 2))
     return t, s - t
@@ -139,7 +151,7 @@ def _mix(g, spec, rates, total):
                 r = f[i].ge(f[j]) + r
         rank.append(r)
     radix = [float((q + 1) ** j) for j in range(J)]
-    base_slot = base[0] * radix[0]
+    base_slot = base[0]                          # radix[0] is 1
     for j in range(1, J):
         base_slot = base[j] * radix[j] + base_slot
     if J == 1:                                   # one fraction: rank 0
@@ -169,18 +181,16 @@ def _mix(g, spec, rates, total):
 
 
 def _cube(g, spec, colour):
-    """Cube coordinates (u_r, u_g) and the blue node and fraction of ``colour``."""
+    """Encoded colour ``clip(rgb, 0, 1) ** (1 / gamma)`` (red and green: the cube
+    coordinates over ``N - 1``, scaled where they are used) and the blue node and
+    fraction of ``colour``."""
     g.stage = "cube"
-    scale = float(spec.side - 1)
     inv = 1.0 / float(spec.gamma)
-    r, gg, b = (c.clamp(0.0, 1.0) ** inv * scale for c in g.separate(colour))
+    clipped = g.vector("MINIMUM", g.vector("MAXIMUM", colour, (0.0, 0.0, 0.0)), (1.0, 1.0, 1.0))
+    r, gg, b = g.separate(g.power(clipped, (inv, inv, inv)))
+    b = b * float(spec.side - 1)
     b0 = b.floor().min(float(spec.side - 2))
     return r, gg, b0, b - b0
-
-
-def _lerp(g, lo, hi, f):
-    """``lo + f (hi - lo)`` of vector socks (two Vector Math nodes)."""
-    return g.vector("MULTIPLY_ADD", g.vector("SUBTRACT", hi, lo), f, lo)
 
 
 def _table(g, spec, cube, vertices, t, ft):
@@ -198,23 +208,31 @@ def _table(g, spec, cube, vertices, t, ft):
     P = float(spec.P)
     r, gg, b0, fb = cube
     pi = math.pi
+    n = float(spec.side - 1)                                             # u = n · encoded
     phi0 = g.math("MULTIPLY_ADD", b0, -2.0 * pi * P / W,                   # column b0
-                  g.math("MULTIPLY_ADD", r, -2.0 * pi / W, pi - 3.0 * pi / W))
+                  g.math("MULTIPLY_ADD", r, -2.0 * pi * n / W, pi - 3.0 * pi / W))
     columns = [(phi.cos(), phi.sin()) for phi in (phi0, phi0 - 2.0 * pi * P / W)]
-    g_off = g.math("MULTIPLY_ADD", gg, pi / H, 1.5 * pi / H - 0.5 * pi)
-    change = None
+    g_off = g.math("MULTIPLY_ADD", gg, pi * n / H, 1.5 * pi / H - 0.5 * pi)
+    t_off = g.math("MULTIPLY_ADD", t, pi * P / H, g_off)                  # row t
+    steps = []
     for slot, weight in vertices:
-        row = t if isinstance(slot, float) and slot == 0.0 else slot * float(spec.T) + t
-        theta0 = g.math("MULTIPLY_ADD", row, pi * P / H, g_off)         # row slot·T + t
+        theta0 = t_off if isinstance(slot, float) and slot == 0.0 else \
+            g.math("MULTIPLY_ADD", slot, pi * P * float(spec.T) / H, t_off)   # row slot·T + t
         corners = []
         for theta in (theta0, theta0 + pi * P / H):
             lift = theta.tan()
             for cos_phi, sin_phi in columns:
                 corners.append(g.environment(spec.table_image,
                                              g.combine(cos_phi, sin_phi, lift), "Linear"))
-        step = _lerp(g, _lerp(g, corners[0], corners[1], fb),
-                     _lerp(g, corners[2], corners[3], fb), ft)
-        term = step if weight is None else g.vector("SCALE", step, None, None, weight)
+        step = g.lerp(g.lerp(corners[0], corners[1], fb), g.lerp(corners[2], corners[3], fb), ft)
+        steps.append((step, weight))
+    if len(steps) == 1:
+        return steps[0][0]
+    if len(steps) == 2:                            # weights 1 - f and f: one lerp
+        return g.lerp(steps[0][0], steps[1][0], steps[1][1])
+    change = None
+    for step, weight in steps:
+        term = g.vector("SCALE", step, None, None, weight)
         change = term if change is None else g.vector("ADD", change, term)
     return change
 
@@ -223,7 +241,7 @@ def _colour(g, colour, change):
     g.stage = "colour"
     to_XYZ = linear_srgb_to_XYZ(np.eye(3)).T            # rows: X, Y, Z of (r, g, b)
     to_rgb = XYZ_to_linear_srgb(np.eye(3)).T
-    e = g.combine(*(c.exp() for c in g.separate(change)))
+    e = g.power((math.e, math.e, math.e), change)
     XYZ = g.combine(*(g.vector("DOT_PRODUCT", colour, tuple(map(float, row)))
                       for row in to_XYZ))
     aged = g.vector("MULTIPLY", XYZ, e)
@@ -240,13 +258,14 @@ def _gamut(g, c):
     """
     g.stage = "gamut"
     Y = g.vector("DOT_PRODUCT", c, tuple(float(v) for v in LUMA)).clamp(0.0, 1.0)
-    d = g.vector("SUBTRACT", c, Y)
+    Yv = g.combine(Y, Y, Y)
+    d = g.vector("SUBTRACT", c, Yv)
     den = g.vector("ADD", d, (1e-20, 1e-20, 1e-20))
-    up = g.vector("DIVIDE", 1.0 - Y, den)
-    down = g.vector("DIVIDE", 0.0 - Y, den)
+    up = g.vector("DIVIDE", g.vector("SUBTRACT", (1.0, 1.0, 1.0), Yv), den)
+    down = g.vector("DIVIDE", g.vector("SUBTRACT", (0.0, 0.0, 0.0), Yv), den)
     tx, ty, tz = g.separate(g.vector("MAXIMUM", up, down))
     t = tx.min(ty).min(tz).clamp(0.0, 1.0)
-    out = g.vector("MULTIPLY_ADD", d, t, Y)
+    out = g.vector("MULTIPLY_ADD", d, g.combine(t, t, t), Yv)
     return g.vector("MINIMUM", g.vector("MAXIMUM", out, (0.0, 0.0, 0.0)), (1.0, 1.0, 1.0))
 
 
@@ -269,12 +288,11 @@ def build(tree, spec):
     result = _gamut(g, g.combine(*_colour(g, colour, change)))
     g.stage = "switch"
     if not spec.history:
-        on = years.gt(0.0)
-        result = g.vector("ADD", colour, g.vector("SCALE", g.vector("SUBTRACT", result, colour),
-                                                  None, None, on))
+        result = g.lerp(colour, result, years.gt(0.0))
     g.stage = "io"
     gout = g.node("NodeGroupOutput", (result,))
     gout.is_active_output = True
+    g.prune()
     tree[VERSION_KEY] = GROUP_VERSION
     return tree
 

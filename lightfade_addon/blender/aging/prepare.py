@@ -7,7 +7,9 @@ node group (:mod:`.runtime`, :mod:`.group`) between its own Base Color graph and
 its BSDF, reading the colour table its recipe and light spectra share (built once for
 the file, :mod:`.data`) and the object's exposure maps — a material with parts
 gets one such group per recipe in use, mixed by the masks (:mod:`.parts`); the scene's
-years drive them all (:mod:`.years`). Nothing is done per texel. If anything fails on
+years drive them all (:mod:`.years`); a gate keeps the group off where it changes
+nothing (0 years) and off the rays the scene's *Aged Colour On* leaves out
+(:func:`.copies.gate_rays`). Nothing is done per texel. If anything fails on
 the way, the copies made so far are removed again.
 """
 
@@ -16,7 +18,7 @@ from __future__ import annotations
 import bpy
 
 from . import data as agingdata, parts, runtime
-from .copies import assign, copies_of, make_copy
+from .copies import assign, copies_of, gate_rays, make_copy
 from .years import write_years
 from ..errors import AgingError, check_years
 from ..exposure import exposure_uv
@@ -80,6 +82,8 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
                 parts.prepare(scene, copy, plan.colour, step)
             else:
                 runtime.prepare(scene, copy, plan.colour, step)
+            gate_rays(copy, plan.colour, scene.lightfade.aged_rays,
+                      zero_years=runtime.material_prior(material) is None)
     except BaseException:
         for copy in made:
             remove_aged(copy)

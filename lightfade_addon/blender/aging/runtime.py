@@ -86,7 +86,7 @@ def signature(scene, copy):
     map, the source material's recipe, sensitivity and history, the colour path. Not
     the maps' pixels: the group reads the map images themselves, and a re-bake remaps
     the old images onto the new, so a re-bake of the same light groups reaches every
-    view without Age.
+    view without Age. The scene's *Aged Colour On* (the copy's ray gate) counts too.
     """
     props = copy.lightfade
     source, obj = props.source, props.aged_object
@@ -98,7 +98,8 @@ def signature(scene, copy):
     except AgingError as err:
         maps = [str(err)]
     parts = [obj.lightfade.uv_map, *maps, s.recipe, s.sensitivity_mode, str(s.blue_wool),
-             s.fastness, repr(s.beta), repr(material_prior(source)), props.path, props.uv_map]
+             s.fastness, repr(s.beta), repr(material_prior(source)), props.path, props.uv_map,
+             scene.lightfade.aged_rays]
     if len(s.parts):                                  # several recipes by mask (.parts)
         parts.append(parts_digest(s))
     return hashlib.sha1("|".join(parts).encode()).hexdigest()
