@@ -2,9 +2,13 @@
 
 The recipe's colourants are simulated at the paper's grid of concentrations (Section 5)
 for each light mix of the set's spectra, recording the table's own dose axis (absolute
-lux·h, :func:`.colourtable.dose_position`) up to :attr:`TableSettings.ceiling`; each cube
-colour is unmixed (:mod:`.unmix`) and its change interpolated on that grid
-(:meth:`.grid.FadeGrid.curves`); the dose axis is cut where nothing changes any more.
+lux·h, :func:`.colourtable.dose_position`) up to :attr:`TableSettings.ceiling` with
+:attr:`TableSettings.substeps` points per node interval (the solver steps at each);
+the cube's nodes and :attr:`TableSettings.per_cell` points in every cell are unmixed
+(:mod:`.unmix`, to convergence, as ``age-image --exact``) and their change
+interpolated on that grid (:meth:`.grid.FadeGrid.curves`); the node values are the
+least-squares fit of the evaluator's own interpolant to those changes
+(:mod:`.tablefit`); the dose axis is cut where nothing changes any more.
 Tables are kept on disk (:func:`load_or_build`) like grids, keyed by everything they
 depend on.
 """
@@ -23,7 +27,7 @@ import numpy as np
 
 from ..fading.cache import directory
 from ..colour.colorimetry import linear_srgb_to_XYZ, reflectance_to_XYZ, srgb_encode
-from .colourtable import ColourTable, cube_colours, mix_resolution
+from .colourtable import ColourTable, mix_resolution
 from ..fading.model import simulate
 from ..fading.grid import FadeGrid, GridSettings
 from ..fading.lattice import concentration_axis, mix_lattice
@@ -31,15 +35,18 @@ from .restore import restore
 from ..fading.spectra import WAVELENGTHS, light_spectrum
 from .table import mix_slots
 from ..fading.unmix import get_unmixer
+from .tablefit import cell_samples, dose_fit, fine_doses, interpolation_matrix, lattice_solve
 
 __all__ = ["TABLE_FORMAT", "TableSettings", "build_table", "load_or_build", "table_key"]
 
 #: Bumped whenever a table's contents would change for the same inputs.
-TABLE_FORMAT = 1
+TABLE_FORMAT = 2
 #: Smallest XYZ value in the log ratio (as the grid).
 _XYZ_FLOOR = 1e-6
 #: Change (log XYZ) below which the dose axis counts as saturated.
 _SATURATED = 2e-4
+#: Colours whose change curves are computed at once (bounds the temporaries).
+_FIT_BLOCK = 2048
 
 
 @dataclass(frozen=True)
@@ -61,6 +68,11 @@ class TableSettings:
     grid : GridSettings
         Concentration nodes simulated (the paper's grid); the cube's colours are
         unmixed and interpolated on it (``points`` and ``power`` are used).
+    substeps : int
+        Dose points per node interval simulated and fitted (:mod:`.tablefit`).
+    per_cell : int
+        Random colours per cube cell the node values are fitted to, besides the nodes
+        (0: the nodes' own values). Tables with a history use the nodes only.
     """
 
     side: int = 17
@@ -69,6 +81,8 @@ class TableSettings:
     low_dose: float = 1e4
     ceiling: float = 1e14
     grid: GridSettings = GridSettings(points=8)
+    substeps: int = 4
+    per_cell: int = 4
 
 def _dose_axis(settings):
     """Dose nodes 0, low, …, ceiling (lux·h)."""
@@ -90,7 +104,14 @@ def table_key(recipe, spectra_keys_, settings, prior=None):
 
 
 def _simulate(recipe, spectra, doses, settings, say):
-    """A :class:`.grid.FadeGrid` on ``doses`` (the grid's concentration nodes)."""
+    """A :class:`.grid.FadeGrid` on ``doses`` (the grid's concentration nodes).
+
+    Simulated at :attr:`TableSettings.substeps` points per dose interval and fitted
+    to the nodes (:func:`.tablefit.dose_fit`): the change curves' interpolation in
+    concentration is linear in the node values, so fitting here is fitting every
+    colour's curve."""
+    sub = max(1, settings.substeps)
+    fine = fine_doses(settings.low_dose, settings.per_decade, doses.size, sub)
     axes = [concentration_axis(settings.grid.points, settings.grid.power)
             for _ in recipe.unmixed]
     q = mix_resolution(spectra.shape[0])
@@ -101,21 +122,22 @@ def _simulate(recipe, spectra, doses, settings, say):
     shape = tuple(a.size for a in axes)
     A, Sc, ground = recipe.optics(WAVELENGTHS)
     beta = recipe.sensitivity(WAVELENGTHS)
-    change = np.empty((mixes.shape[0], doses.size) + shape + (3,), dtype=np.float32)
+    change = np.empty((mixes.shape[0], fine.size) + shape + (3,), dtype=np.float32)
     initial = None
     for k, w in enumerate(mixes):
         say(0.1 + 0.7 * k / len(mixes), f"simulating {recipe.name}: light mix {k + 1}/{len(mixes)}")
-        # the recipe's own solver, stepping at the table's dose nodes only (its extra
+        # the recipe's own solver, stepping at the fine dose points only (its extra
         # cubic nodes, Recipe.simulate, would all lie past 10⁸ lux·h on this long axis)
         r = simulate(A, Sc, c, beta, w @ spectra, ground, WAVELENGTHS,
-                     thickness=recipe.thickness, duration=doses[-1], record=doses[1:],
+                     thickness=recipe.thickness, duration=fine[-1], record=fine[1:],
                      yields=recipe.yield_matrix(), **recipe.solver())
         XYZ0 = np.maximum(reflectance_to_XYZ(r.initial, WAVELENGTHS), _XYZ_FLOOR)
         XYZ = np.maximum(reflectance_to_XYZ(r.history, WAVELENGTHS), _XYZ_FLOOR)
         if axes:
             initial = np.log(XYZ0).reshape(shape + (3,)).astype(np.float32)
         change[k, 0] = 0.0
-        change[k, 1:] = np.log(XYZ / XYZ0).reshape((doses.size - 1,) + shape + (3,))
+        change[k, 1:] = np.log(XYZ / XYZ0).reshape((fine.size - 1,) + shape + (3,))
+    change = np.moveaxis(dose_fit(np.moveaxis(change, 1, -2), sub), -2, 1)
     return FadeGrid("", recipe.name, axes, mixes, doses, change, q, initial)
 
 
@@ -152,32 +174,45 @@ def build_table(recipe, spectra_keys_, settings=TableSettings(), prior=None, pro
     say = progress or (lambda f, m: None)
     keys = [tuple(k) for k in spectra_keys_]
     spectra = np.stack([light_spectrum(s, WAVELENGTHS, uv) for s, uv in keys])
+    N, sub = settings.side, max(1, settings.substeps)
     doses = _dose_axis(settings)
-    seen = cube_colours(settings.side, settings.gamma)
+    u = cell_samples(N, 0 if prior is not None else settings.per_cell)
+    seen = (u / (N - 1)) ** settings.gamma                  # linear sRGB, nodes first
     lost = None
     original = seen
     if prior is not None:
         say(0.0, "restoring the cube's colours to new")
         back = restore(seen, prior.years, recipe, prior.lights, encoding="linear",
                        **(restore_kw or {}))
-        original, lost = back.image.astype(float), back.lost.reshape((settings.side,) * 3)
+        original, lost = back.image.astype(float), back.lost.reshape((N,) * 3)
     grid = _simulate(recipe, spectra, doses, settings, say)
-    say(0.8, f"change curves for {seen.shape[0]} colours")
+    say(0.8, f"unmixing {seen.shape[0]} colours")
     unmixer = get_unmixer(recipe)
     encoded = srgb_encode(np.clip(original, 0, 1))
-    c = unmixer.unmix(encoded, encoded=True, refine=2) if unmixer.Cu else np.zeros((len(seen), 0))
+    c = unmixer.unmix(encoded, encoded=True) if unmixer.Cu else np.zeros((len(seen), 0))
     initial = np.log(np.maximum(unmixer.XYZ(c), _XYZ_FLOOR)) if grid.initial is not None else None
-    curves = grid.curves(c, initial)                                      # (U, M, T, 3)
     if prior is not None:
         XYZ_seen = np.maximum(linear_srgb_to_XYZ(seen), _XYZ_FLOOR)
         XYZ_new = np.maximum(linear_srgb_to_XYZ(np.clip(original, 0, None)), _XYZ_FLOOR)
-        curves = curves + np.log(XYZ_new / XYZ_seen).astype(np.float32)[:, None, None, :]
-    T = _saturated_length(curves)
+        restoration = np.log(XYZ_new / XYZ_seen).astype(np.float32)
+    say(0.9, f"fitting the table to {seen.shape[0]} colours")
+    W = interpolation_matrix(u, N)
+    M = grid.mixes.shape[0]
+    rhs = np.zeros((N ** 3, M * doses.size * 3))
+    for s0 in range(0, len(seen), _FIT_BLOCK):
+        rows = slice(s0, s0 + _FIT_BLOCK)
+        curves = grid.curves(c[rows], None if initial is None else initial[rows])
+        if prior is not None:                                   # (U, M, T, 3)
+            curves += restoration[rows, None, None, :]
+        rhs += W[rows].T @ curves.reshape(curves.shape[0], -1).astype(np.float64)
+    fitted = lattice_solve(W, rhs).reshape(N ** 3, M, doses.size, 3).astype(np.float32)
+    if prior is None:
+        fitted[:, :, 0] = 0.0                                   # 0 years: the colour itself
+    T = _saturated_length(fitted)
     rows = mix_slots(len(keys), grid.q)
-    N = settings.side
     values = np.zeros((rows.size, T, N, N, N, 3), dtype=np.float16)
     used = rows >= 0
-    values[used] = np.moveaxis(curves[:, rows[used], :T], 0, 2).reshape(
+    values[used] = np.moveaxis(fitted[:, rows[used], :T], 0, 2).reshape(
         int(used.sum()), T, N, N, N, 3)
     say(1.0, "table ready")
     return ColourTable(values, doses[:T].astype(np.float64), float(settings.gamma),
