@@ -11,6 +11,7 @@ from lightfade_addon.core.aging.tablefit import (
     dose_fit,
     fine_doses,
     interpolation_matrix,
+    kinked_cells,
     lattice_solve,
 )
 from lightfade_addon.core.colour.colorimetry import (
@@ -54,7 +55,7 @@ class TestDose:
         s = np.concatenate([[0.0], 1 + np.arange(6 * 4 + 1) / 4])
         curve = np.repeat(np.exp(s / 2)[:, None], 3, axis=1) - 1
         fitted = dose_fit(curve, 4)[:, 0]
-        sampled = curve[::4][:, 0]
+        sampled = np.concatenate([curve[:1], curve[1::4]])[:, 0]     # the nodes' own values
         def worst(nodes):
             return np.abs(np.interp(s, np.arange(nodes.size), nodes) - curve[:, 0]).max()
         assert fitted[0] == 0.0
@@ -117,3 +118,20 @@ def test_inside_the_gamut_the_table_is_within_the_bound_of_the_exact_path(printe
     for years, ref in zip((5, 25), exact):
         d = delta_E_2000(_lab(evaluate(table, rgb, rates, years)), _lab(srgb_decode(ref[0])))
         assert np.percentile(d, 99) < 0.6 and d.max() < 1.5, (years, d.max())
+
+
+def test_kinked_cells_are_those_whose_corners_hold_different_bounds():
+    side = 3
+    c = np.full((side ** 3, 2), 0.5)
+    c[0] = [0.0, 0.5]                          # node (b, g, r) = (0, 0, 0): one colourant at 0
+    kinked = kinked_cells(c, side)
+    assert kinked.shape == (2, 2, 2)
+    assert kinked[0, 0, 0] and kinked.sum() == 1
+    assert not kinked_cells(np.full((side ** 3, 2), 1.0), side).any()
+
+
+def test_cell_samples_only_in_the_cells_asked_for():
+    cells = np.zeros((4, 4, 4), dtype=bool)
+    cells[1, 2, 3] = True                      # b = 1, g = 2, r = 3
+    u = cell_samples(5, 5, cells=cells)[125:]
+    assert len(u) > 5 and np.all(np.floor(np.minimum(u, 3.999)) == [3, 2, 1])

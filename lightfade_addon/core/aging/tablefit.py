@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["cell_samples", "dose_fit", "fine_doses", "interpolation_matrix", "lattice_solve"]
+__all__ = ["cell_samples", "kinked_cells", "dose_fit", "fine_doses", "interpolation_matrix", "lattice_solve"]
 
 
 def fine_doses(low_dose, per_decade, nodes, sub):
@@ -87,7 +87,7 @@ def dose_fit(curves, sub):
     return out
 
 
-def cell_samples(side, per_cell, seed=0):
+def cell_samples(side, per_cell, seed=0, cells=None):
     """Fitting points in node units ``u · (N - 1)``, (n, 3) as (r, g, b).
 
     Every node (in :func:`.colourtable.cube_colours` order), then ``per_cell``
@@ -95,6 +95,11 @@ def cell_samples(side, per_cell, seed=0):
     build), and the same density on the cube's faces and edges: each point of a cell
     at the cube's boundary also snapped onto that boundary, along every subset of its
     boundary axes (photographs clip: many of their colours lie on the faces).
+
+    Parameters
+    ----------
+    cells : ndarray of bool, shape (N - 1,) * 3, optional
+        Which cells (indexed b, g, r) get points; all by default.
     """
     axis = np.arange(side, dtype=float)
     b, g, r = np.meshgrid(axis, axis, axis, indexing="ij")
@@ -102,7 +107,10 @@ def cell_samples(side, per_cell, seed=0):
     if per_cell <= 0:
         return nodes
     rng = np.random.default_rng(seed)
-    corners = np.repeat(nodes[np.all(nodes < side - 1, axis=1)], per_cell, axis=0)
+    corners = nodes[np.all(nodes < side - 1, axis=1)]               # cells, r fastest
+    if cells is not None:
+        corners = corners[np.asarray(cells, dtype=bool).reshape(-1)]
+    corners = np.repeat(corners, per_cell, axis=0)
     inner = corners + rng.random(corners.shape)
     edge = np.where(corners == 0, 0.0, np.where(corners == side - 2, side - 1.0, np.nan))
     snapped = []
@@ -114,6 +122,22 @@ def cell_samples(side, per_cell, seed=0):
             p[:, on] = edge[hit][:, on]
             snapped.append(p)
     return np.concatenate([nodes, inner] + snapped)
+
+
+def kinked_cells(c, side):
+    """Cells (N - 1,) * 3 (b, g, r) whose corner nodes' unmixed concentrations ``c``
+    (N³, Cu) do not all hold the same colourants at 0 or 1: the gamut's faces cross
+    them, and the change has a kink there that the nodes alone do not place. In the
+    other cells the change is smooth and the nodes' own values serve."""
+    code = np.zeros(c.shape[0], dtype=np.int64)
+    for k in range(c.shape[1]):
+        code = code * 3 + (c[:, k] <= 1e-6) + 2 * (c[:, k] >= 1.0 - 1e-6)
+    code = code.reshape((side,) * 3)
+    first = code[:-1, :-1, :-1]
+    mixed = np.zeros(first.shape, dtype=bool)
+    for b, g, r in np.ndindex(2, 2, 2):
+        mixed |= code[b:side - 1 + b, g:side - 1 + g, r:side - 1 + r] != first
+    return mixed
 
 
 def interpolation_matrix(u, side):
@@ -147,15 +171,48 @@ def lattice_solve(W, rhs, ridge=1e-9):
         ``Wᵀ y`` for ``k`` right-hand sides (accumulated block by block).
     ridge : float
         Relative Tikhonov term (only guards empty columns; every node is a sample).
+        Nodes whose only sample is their own (cells without fitting points all
+        around them) are their sample; the others are solved together.
 
     Returns
     -------
     ndarray, shape (N³, k)
     """
     from scipy import sparse
-    from scipy.sparse.linalg import splu
 
-    WtW = (W.T @ W).tocsc()
-    scale = float(WtW.diagonal().mean()) if WtW.shape[0] else 1.0
-    lu = splu((WtW + ridge * scale * sparse.eye(WtW.shape[0], format="csc")).tocsc())
-    return lu.solve(np.ascontiguousarray(rhs, dtype=np.float64))
+    WtW = (W.T @ W).tocsr()
+    WtW.eliminate_zeros()
+    rhs = np.ascontiguousarray(rhs, dtype=np.float64)
+    diag = WtW.diagonal()
+    scale = float(diag.mean()) if diag.size else 1.0
+    out = rhs / np.maximum(diag + ridge * scale, 1e-300)[:, None]   # nodes alone in their rows
+    coupled = np.flatnonzero(np.diff(WtW.indptr) > 1)
+    if coupled.size:
+        sub = WtW[coupled][:, coupled] + ridge * scale * sparse.eye(coupled.size)
+        out[coupled] = _conjugate_gradients(sub.tocsr(), rhs[coupled])
+    return out
+
+
+def _conjugate_gradients(A, B, tol=1e-10, iterations=1000):
+    """``A⁻¹ B`` column by column, vectorised over the columns (Jacobi-preconditioned
+    conjugate gradients; ``A`` is a normal matrix of interpolation weights, well
+    conditioned: a few tens of iterations)."""
+    inv_diag = 1.0 / A.diagonal()[:, None]
+    X = np.zeros_like(B)
+    R = B.copy()
+    Z = R * inv_diag
+    P = Z.copy()
+    rz = np.sum(R * Z, axis=0)
+    limit = tol * np.sqrt(np.sum(B * B, axis=0)) + 1e-300
+    for _ in range(iterations):
+        AP = A @ P
+        alpha = rz / np.maximum(np.sum(P * AP, axis=0), 1e-300)
+        X += alpha * P
+        R -= alpha * AP
+        if np.all(np.sqrt(np.sum(R * R, axis=0)) <= limit):
+            break
+        Z = R * inv_diag
+        rz_new = np.sum(R * Z, axis=0)
+        P = Z + (rz_new / np.maximum(rz, 1e-300)) * P
+        rz = rz_new
+    return X
