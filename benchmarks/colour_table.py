@@ -3,6 +3,7 @@
     ./run py -m benchmarks.colour_table                   # the default table
     ./run py -m benchmarks.colour_table --side 25 --per-decade 8 --size 160
     ./run py -m benchmarks.colour_table --photos DIR      # also every .png/.jpg in DIR
+    ./run py -m benchmarks.colour_table --per-cell 0 --substeps 2   # the fit's settings
 
 Each photograph (found on this machine: matplotlib's Grace Hopper, colour-science's
 TM-30 background, Blender's bundled HDRIs tone-mapped to 8 bits, scikit-image's
