@@ -2,9 +2,13 @@
 
     ./run py -m benchmarks.colour_table                   # the default table
     ./run py -m benchmarks.colour_table --side 25 --per-decade 8 --size 160
+    ./run py -m benchmarks.colour_table --photos DIR      # also every .png/.jpg in DIR
+    ./run py -m benchmarks.colour_table --per-cell 0 --substeps 2   # the fit's settings
 
 Each photograph (found on this machine: matplotlib's Grace Hopper, colour-science's
-TM-30 background, Blender's bundled HDRIs tone-mapped to 8 bits) is a Printed Paper
+TM-30 background, Blender's bundled HDRIs tone-mapped to 8 bits, scikit-image's
+astronaut, coffee and chelsea where scikit-image is installed or its ``skimage/data``
+folder is given with ``--photos``, and any other pictures given so) is a Printed Paper
 poster on a sunlit plane: about 1 Mlx·h a year (3000 lux, 8.9 h a day, daylight), the
 same dose everywhere. It is aged by the colour table (:mod:`lightfade_addon.core.
 colourtable`, what the node group and ``api.apply_aging`` evaluate) and by
@@ -44,8 +48,8 @@ def _site():
     return os.path.dirname(os.path.dirname(matplotlib.__file__))
 
 
-def photos():
-    """{name: path} of real photographs on this machine."""
+def photos(extra=None):
+    """{name: path} of real photographs on this machine (and in the folder ``extra``)."""
     site = _site()
     found = {
         "grace-hopper": os.path.join(site, "matplotlib/mpl-data/sample_data/grace_hopper.jpg"),
@@ -55,6 +59,15 @@ def photos():
         hits = glob.glob(os.path.join(site, f"bpy/*/datafiles/studiolights/world/{hdri}.exr"))
         if hits:
             found[f"hdri-{hdri}"] = hits[0]
+    skimage = os.path.join(site, "skimage", "data")
+    for folder in (skimage, extra):
+        if folder and os.path.isdir(folder):
+            for name in ("astronaut", "coffee", "chelsea") if folder == skimage else ():
+                found[name] = os.path.join(folder, f"{name}.png")
+            if folder == extra:
+                for path in sorted(glob.glob(os.path.join(folder, "*"))):
+                    if path.lower().endswith((".png", ".jpg", ".jpeg")):
+                        found[os.path.splitext(os.path.basename(path))[0]] = path
     return {k: v for k, v in found.items() if os.path.isfile(v)}
 
 
@@ -85,10 +98,14 @@ def main(argv=None):
     p.add_argument("--points", type=int, default=TableSettings().grid.points)
     p.add_argument("--size", type=int, default=128, help="longer side of each photo (px)")
     p.add_argument("--recipe", default="printed-paper")
+    p.add_argument("--photos", help="a folder of more photographs (.png, .jpg)")
+    p.add_argument("--substeps", type=int, default=TableSettings.substeps)
+    p.add_argument("--per-cell", type=int, default=TableSettings.per_cell)
     a = p.parse_args(argv)
     recipe = get_recipe(a.recipe)
     settings = TableSettings(side=a.side, gamma=a.gamma, per_decade=a.per_decade,
-                             grid=GridSettings(points=a.points))
+                             grid=GridSettings(points=a.points), substeps=a.substeps,
+                             per_cell=a.per_cell)
     t0 = time.perf_counter()
     table = build_table(recipe, [(LIGHT.spectrum, LIGHT.uv_filter)], settings)
     built = time.perf_counter() - t0
@@ -98,7 +115,7 @@ def main(argv=None):
     worst = 0.0, 0.0
     print(f"{'photo':18s} {'size':>9s} {'colours':>8s}  " +
           "  ".join(f"{y:g} y p99 / max" for y in YEARS))
-    for name, path in photos().items():
+    for name, path in photos(a.photos).items():
         enc = load(path, a.size)
         lin = srgb_decode(enc).reshape(-1, 3).astype(np.float32)
         rate = np.full((1, lin.shape[0]), LIGHT.annual_dose, dtype=np.float32)

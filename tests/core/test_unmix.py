@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 
 from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_Lab,
     XYZ_to_linear_srgb,
+    linear_srgb_to_XYZ,
     delta_E_2000,
     srgb_encode,
 )
@@ -62,6 +64,31 @@ class TestUnmixer:
         best = np.sqrt(np.min(np.sum((unmixer.Lab(grid) - target) ** 2, axis=1)))
         found = np.sqrt(np.sum((unmixer.Lab(c[:1]) - target) ** 2))
         assert found <= best + 0.1          # ΔE*ab to pure green, within 0.1 of a 9³ search
+
+    def test_the_default_solve_is_converged(self, unmixer):
+        """``refine=None`` (what ``--exact`` and the colour tables use) is the solution a
+        far longer solve finds, inside the gamut and out, to 1e-3 in concentration;
+        two steps (the older default) are not."""
+        enc = np.random.default_rng(4).uniform(0, 1, (400, 3))
+        long = unmixer.unmix(enc, encoded=True, refine=400)
+        assert np.abs(unmixer.unmix(enc, encoded=True) - long).max() < 1e-3
+        assert np.abs(unmixer.unmix(enc, encoded=True, refine=2) - long).max() > 2e-3
+
+    def test_continuous_across_the_gamut_boundary(self, unmixer):
+        """Along lines from inside the gamut far out of it the solution moves in steps
+        of the size of the colour's: no jump to another mixture at the boundary."""
+        from lightfade_addon.core.colour.colorimetry import srgb_decode
+
+        t = np.linspace(0.0, 1.0, 201)[:, None]
+        for start, end in (([0.5, 0.45, 0.4], [0.0, 1.0, 0.0]),      # to pure green
+                           ([0.5, 0.45, 0.4], [0.0, 0.05, 0.9]),     # to a deep blue
+                           ([0.3, 0.25, 0.2], [0.0, 0.0, 0.0])):     # to black
+            enc = np.array(start) + t * (np.array(end) - np.array(start))
+            c = unmixer.unmix(enc, encoded=True)
+            inside = np.linalg.norm(unmixer.Lab(c) - XYZ_to_Lab(
+                linear_srgb_to_XYZ(srgb_decode(enc))), axis=1) < 0.5
+            assert inside[0] and not inside[-1]
+            assert np.abs(np.diff(c, axis=0)).max() < 0.05, (start, end)
 
     def test_recipe_with_nothing_to_unmix(self):
         u = Unmixer(replace(RECIPES["bare-wood"], colourants=("lignin", "quinone"),

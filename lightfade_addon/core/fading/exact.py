@@ -65,7 +65,7 @@ def age_image_exact(rgb, years, recipe="printed-paper", light=Light(), exposure=
     enc = np.clip(flat if encoding == "srgb" else srgb_encode(np.clip(flat, 0, 1)), 0, 1)
     colours, key = np.unique(enc, axis=0, return_inverse=True)
     key = key.reshape(-1)
-    c_unmixed = get_unmixer(recipe).unmix(colours, encoded=True, refine=2)
+    c_unmixed = get_unmixer(recipe).unmix(colours, encoded=True)   # converged
     E0 = light.spectrum_1lux()
     lin = srgb_decode(flat) if encoding == "srgb" else flat
     XYZ = linear_srgb_to_XYZ(lin)

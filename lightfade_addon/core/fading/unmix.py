@@ -7,7 +7,10 @@ colourants whose colour is nearest in CIELAB, within [0, 1] (colours outside the
 recipe's gamut get the nearest reachable mixture). The inversion is a projected
 Gauss–Newton solve in CIELAB, started from the nearest of a table of forward
 samples. For images, a coarse 17³ table over encoded sRGB gives each unique colour
-its starting point and a few Gauss–Newton steps make it exact.
+its starting point and Gauss–Newton steps make it exact: by default
+(``refine=None``) every colour is solved to convergence (:data:`CONVERGED`), which
+is what ``age-image --exact`` and the colour tables use, so the reference and the
+tables are the same model; a fixed small ``refine`` is a cheaper approximation.
 """
 
 from __future__ import annotations
@@ -21,8 +24,15 @@ from .kubelka import kubelka_layer, over_ground
 from .recipes import Recipe
 from .spectra import WAVELENGTHS
 
-__all__ = ["Unmixer", "bounded_gauss_newton", "forward_reflectance", "get_unmixer", "jacobian",
+__all__ = ["CONVERGED", "STEP_TOLERANCE", "Unmixer", "bounded_gauss_newton", "forward_reflectance", "get_unmixer", "jacobian",
            "pseudo_inverse"]
+
+
+#: Most Gauss–Newton steps of a converged solve (``refine=None``); rows leave as soon
+#: as their step is below :data:`STEP_TOLERANCE` or the line search finds no descent.
+CONVERGED = 80
+#: Concentration step (volume fraction) below which a row counts as converged.
+STEP_TOLERANCE = 1e-6
 
 
 def forward_reflectance(recipe, c, wavelengths=WAVELENGTHS):
@@ -209,6 +219,10 @@ class Unmixer:
         return pseudo_inverse(self.jacobian(c))
 
     def _gauss_newton(self, c, Lab, iterations, h=1e-5):
+        """``iterations`` steps, or to convergence (:data:`CONVERGED`) when None."""
+        if iterations is None:
+            return bounded_gauss_newton(lambda x, rows=None: self.Lab(x), c, Lab, CONVERGED,
+                                        h, step_tol=STEP_TOLERANCE)
         return bounded_gauss_newton(lambda x, rows=None: self.Lab(x), c, Lab, iterations, h)
 
     def solve_linear_srgb(self, rgb, iterations=12):
@@ -227,15 +241,17 @@ class Unmixer:
             self._lut = self.solve_linear_srgb(srgb_decode(enc)).reshape(n, n, n, self.Cu)
         return self._lut
 
-    def unmix(self, rgb, encoded=False, refine=4):
-        """Concentrations for colours (N, 3): table lookup, then ``refine`` solver steps.
+    def unmix(self, rgb, encoded=False, refine=None):
+        """Concentrations for colours (N, 3): table lookup, then solver steps.
 
         Parameters
         ----------
         rgb : array_like, shape (N, 3)
             Linear sRGB (or encoded sRGB with ``encoded=True``), clipped to [0, 1].
-        refine : int
-            Gauss–Newton iterations from the table's trilinear estimate (0: table only).
+        refine : int or None
+            Gauss–Newton iterations from the table's trilinear estimate (0: table
+            only); None (the default): to convergence (:data:`CONVERGED`), the
+            solution ``age-image --exact`` and the colour tables use.
         """
         rgb = np.asarray(rgb, dtype=float).reshape(-1, 3)
         if self.Cu == 0:
@@ -253,7 +269,7 @@ class Unmixer:
                 w = w * (f[:, k] if b else 1.0 - f[:, k])
             out += w[:, None] * lut[i[:, 0] + bits[0], i[:, 1] + bits[1], i[:, 2] + bits[2]]
         np.clip(out, 0.0, 1.0, out=out)
-        if refine:
+        if refine is None or refine:
             from ..colour.colorimetry import srgb_decode
 
             lin = srgb_decode(e)
