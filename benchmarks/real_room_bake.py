@@ -3,20 +3,27 @@ surface, in a furnished room of public glTF assets.
 
 Usage (from the repository root; the assets are not part of the repository)::
 
-    python benchmarks/real_room_bake.py ASSET_DIR [--density 128] [--max-size 512]
-        [--samples 64] [--reference 256] [--sky-width 256] [--radius 0.06]
+    python benchmarks/real_room_bake.py ASSET_DIR [--room furnished|open] [--density D]
+        [--max-size N] [--samples 64] [--reference 256] [--reference-seeds 2]
+        [--radius 0.06] [--reference-cache out/ref.npz]
 
-The room is ``tools/real_room.py``'s (south window, annual clear-sky daylight at 52° N).
-Its sofa and curtain are baked, in this order and on the same UV maps (the first bake
-makes them), with
+The room is ``tools/furnished_room.py``'s by default (Drake's furnished living room, the
+one issue 26 measured: its south window, the sofa with its back to it, the curtains
+beside it; annual clear-sky daylight at 52° N); ``--room open`` takes
+``tools/real_room.py``'s (an open south window, the sofa facing it).  The scene's own
+density and max size (the defaults a user gets) unless given.  Its sofa and curtain are
+baked, in this order and on the same UV maps (the first bake makes them), with
 
-* the default quality (Final preset),
-* ``--samples`` samples per texel (Custom quality, denoised),
-* ``--reference`` samples per texel (Custom quality, denoised): the reference,
+* the default quality (Final preset), seed 0,
+* ``--samples`` samples per texel (Custom quality, denoised), seed 0,
+* ``--reference`` samples per texel (Custom quality, denoised), seeds 1, 2, …: the first
+  is the reference (independent of the bakes above: another seed shares no path); the
+  others, measured against it, are the reference's own noise, the floor under every
+  figure.
 
-all at the same texel density.  Points: one per polygon, the centroid of its first
-triangle, read from each map (bilinear) at its UV.  A point is *lit* where the reference
-gets at least 5 % of the object's 99th-percentile lux.  Printed per object and bake:
+Points: one per polygon, the centroid of its first triangle, read from each map
+(bilinear) at its UV.  A point is *lit* where the reference gets at least 5 % of the
+object's 99th-percentile lux.  Printed per object and bake:
 
 * ``p95 point``: the 95th percentile over lit points of ``|bake - ref| / ref``;
 * ``p95 3D``: the same after each point is averaged with the points within ``--radius``
@@ -26,6 +33,11 @@ gets at least 5 % of the object's 99th-percentile lux.  Printed per object and b
 * wall and CPU seconds of each bake (all objects), and their ratio to the default's;
 * the panel's estimate of the default bake (map sizes, seconds after Calibrate) against
   the sizes and time the bake made.
+
+The reference bakes are long (256 samples on a sofa and a curtain at the default
+density: ~32 min of CPU on 2 cores); ``--reference-cache`` keeps their values at the
+points (the polygons do not change with the UV map), so later runs bake only the
+default and ``--samples``.
 """
 
 from __future__ import annotations
@@ -121,12 +133,13 @@ def save_png(image, path):
     bpy.data.images.remove(out)
 
 
-def bake(scene, objects, quality, samples, save=None):
+def bake(scene, objects, quality, samples, save=None, seed=0):
     from lightfade_addon.blender.bake import BakeSettings, bake_exposure
 
     scene.lightfade_bake.quality = quality
     scene.lightfade.bake_samples = samples
     settings = BakeSettings.from_scene(scene)
+    settings.seed = seed
     result, wall, cpu = timed(lambda: bake_exposure(scene, objects, settings,
                                                     report=lambda m: None,
                                                     progress=lambda f, m: None))
@@ -136,7 +149,7 @@ def bake(scene, objects, quality, samples, save=None):
         image = maps[obj.name]
         if save:
             Path(save).mkdir(parents=True, exist_ok=True)
-            save_png(image, Path(save) / f"{obj.name}_{quality.lower()}_{samples}.png")
+            save_png(image, Path(save) / f"{obj.name}_{quality.lower()}_{samples}_{seed}.png")
         centre, normal, uv = surface_points(obj, obj.lightfade.uv_map)
         values[obj.name] = (read_map(image, uv), centre, normal, image.size[0])
     return values, wall, cpu
@@ -153,71 +166,110 @@ def planned_estimate(scene, objects):
     return dict(job.sizes), job.estimate()
 
 
+def build_room(room, assets):
+    """The room's sofa and curtain objects (``furnished``: tools/furnished_room.py, the
+    issue's room; ``open``: tools/real_room.py)."""
+    if room == "furnished":
+        from tools import furnished_room
+
+        roles = furnished_room.build(assets)
+    else:
+        from tools import real_room
+
+        roles = real_room.build(assets)
+    names = [n for r in ("sofa", "curtain") for n in roles.get(r, [])]
+    if not names:
+        raise SystemExit(f"no sofa or curtain model in {assets}")
+    return [bpy.data.objects[n] for n in names]
+
+
+def compare(values, ref, lit, centre, normal, radius, r_smooth):
+    """(p95 per point, p95 3D-smoothed, median per point) of ``values`` against ``ref``."""
+    point = np.abs(values - ref)[lit] / ref[lit]
+    v_smooth = smooth(values, centre, normal, radius)
+    near = np.abs(v_smooth - r_smooth)[lit] / r_smooth[lit]
+    return np.percentile(point, 95), np.percentile(near, 95), np.median(point)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("assets", help="directory of glTF models (see tools/real_room.py)")
-    parser.add_argument("--density", type=float, default=128.0, help="texels per metre")
-    parser.add_argument("--max-size", type=int, default=512)
+    parser.add_argument("assets", help="directory of glTF models (see tools/furnished_room.py)")
+    parser.add_argument("--room", choices=("furnished", "open"), default="furnished",
+                        help="furnished: tools/furnished_room.py (the issue's room); "
+                             "open: tools/real_room.py")
+    parser.add_argument("--density", type=float, help="texels per metre (default: the scene's)")
+    parser.add_argument("--max-size", type=int, help="largest map (default: the scene's)")
     parser.add_argument("--samples", type=int, default=64)
     parser.add_argument("--reference", type=int, default=256)
-    parser.add_argument("--sky-width", type=int, default=256)
+    parser.add_argument("--reference-seeds", type=int, default=2,
+                        help="reference bakes with seeds 1, 2...: the first is the reference, "
+                             "the others measure its own noise (the floor)")
+    parser.add_argument("--sky-width", type=int, help="annual sky map width (default: the scene's)")
     parser.add_argument("--radius", type=float, default=0.06, help="3D neighbourhood, m")
     parser.add_argument("--save-maps", help="write each map as a PNG into this directory")
     parser.add_argument("--reference-cache",
-                        help="an .npz of the reference's values at the points: read if it "
+                        help="an .npz of the reference bakes' values at the points: read if it "
                              "exists (no reference bake), else written")
     args = parser.parse_args()
 
-    from tools import real_room
-
-    roles = real_room.build(args.assets)
+    objects = build_room(args.room, args.assets)
     scene = bpy.context.scene
-    scene.lightfade_bake.texels_per_metre = args.density
-    scene.lightfade.bake_resolution = args.max_size
-    scene.lightfade_daylight.sky_width = args.sky_width
-    objects = [bpy.data.objects[roles[r][0]] for r in ("sofa", "curtain") if r in roles]
-    if not objects:
-        raise SystemExit(f"no sofa or curtain model in {args.assets}")
+    if args.density:
+        scene.lightfade_bake.texels_per_metre = args.density
+    if args.max_size:
+        scene.lightfade.bake_resolution = args.max_size
+    if args.sky_width:
+        scene.lightfade_daylight.sky_width = args.sky_width
     cache = Path(args.reference_cache) if args.reference_cache else None
-    runs = [("default (Final)", "FINAL", 8)]
+    cached = cache is not None and cache.exists()
+    runs = [("default (Final)", "FINAL", 8, 0)]
     if args.samples:
-        runs.append((f"{args.samples} samples", "CUSTOM", args.samples))
-    if cache is None or not cache.exists():
-        runs.append((f"{args.reference} samples", "CUSTOM", args.reference))
+        runs.append((f"{args.samples} samples", "CUSTOM", args.samples, 0))
+    if not cached:
+        runs += [(f"{args.reference} seed {k}", "CUSTOM", args.reference, k)
+                 for k in range(1, max(args.reference_seeds, 1) + 1)]
     estimate = planned_estimate(scene, objects)
-    results = [(label, *bake(scene, objects, q, s, args.save_maps)) for label, q, s in runs]
-    if cache is not None and cache.exists():
+    results = [(label, *bake(scene, objects, q, s, args.save_maps, seed))
+               for label, q, s, seed in runs]
+    first = results[0][1]
+    if cached:
         stored = np.load(cache)
-        ref = {name: (stored[name], *results[0][1][name][1:]) for name in results[0][1]}
-        results.append((f"{args.reference} samples (cached)", ref, float("nan"), float("nan")))
+        seeds = sorted({int(k.rsplit("@", 1)[1]) for k in stored.files})
+        refs = [(f"{args.reference} seed {k} (cached)",
+                 {n: (stored[f"{n}@{k}"], *first[n][1:]) for n in first}, np.nan, np.nan)
+                for k in seeds]
+        results += refs
     else:
-        ref = results[-1][1]
+        refs = results[-max(args.reference_seeds, 1):]
         if cache is not None:
-            np.savez(cache, **{name: v[0] for name, v in ref.items()})
-    print(f"\nReal room ({args.assets}): {len(objects)} objects, {args.density:g} texels/m, "
-          f"max {args.max_size}², daylight 52° N; points: polygon centres, lit >= 5 % of p99; "
-          f"3D radius {args.radius} m")
+            np.savez(cache, **{f"{n}@{k}": v[0] for k, (_, vals, _, _) in enumerate(refs, 1)
+                               for n, v in vals.items()})
+    ref = refs[0][1]
+    print(f"\n{args.room} room ({args.assets}): {len(objects)} objects, "
+          f"{scene.lightfade_bake.texels_per_metre:g} texels/m, max "
+          f"{scene.lightfade.bake_resolution}², daylight 52° N; points: polygon centres, lit "
+          f">= 5 % of p99; 3D radius {args.radius} m; reference: {refs[0][0]}")
     for obj in objects:
         r_val, centre, normal, size = ref[obj.name]
         lit = r_val >= 0.05 * np.percentile(r_val, 99)
         r_smooth = smooth(r_val, centre, normal, args.radius)
         print(f"\n{obj.name}: {size}² map on \"{obj.lightfade.uv_map}\" "
               f"({fill(obj, obj.lightfade.uv_map, size):.0%} of it in islands), "
-              f"{lit.sum()} lit points of {len(r_val)}, reference median {np.median(r_val[lit]):,.0f} lx")
-        print(f"{'bake':<18} {'p95 point':>10} {'p95 3D':>8} {'median':>8}")
-        for label, values, _, _ in results[:-1]:
-            v = values[obj.name][0]
-            point = np.abs(v - r_val)[lit] / r_val[lit]
-            v_smooth = smooth(v, centre, normal, args.radius)
-            near = np.abs(v_smooth - r_smooth)[lit] / r_smooth[lit]
-            print(f"{label:<18} {np.percentile(point, 95):>10.1%} {np.percentile(near, 95):>8.1%} "
-                  f"{np.median(point):>8.1%}")
+              f"{lit.sum()} lit points of {len(r_val)}, reference median "
+              f"{np.median(r_val[lit]):,.0f} lx")
+        print(f"{'bake':<22} {'p95 point':>10} {'p95 3D':>8} {'median':>8}")
+        for label, values, _, _ in results:
+            if values is ref:
+                continue
+            p95, p95_3d, med = compare(values[obj.name][0], r_val, lit, centre, normal,
+                                       args.radius, r_smooth)
+            print(f"{label:<22} {p95:>10.1%} {p95_3d:>8.1%} {med:>8.1%}")
     wall0, cpu0 = results[0][2], results[0][3]
-    print(f"\n{'bake':<18} {'wall s':>8} {'CPU s':>8} {'CPU ÷ default':>14}")
+    print(f"\n{'bake':<22} {'wall s':>8} {'CPU s':>8} {'CPU ÷ default':>14}")
     for label, _, wall, cpu in results:
-        print(f"{label:<18} {wall:>8.1f} {cpu:>8.1f} {cpu / cpu0:>14.2f}")
+        print(f"{label:<22} {wall:>8.1f} {cpu:>8.1f} {cpu / cpu0:>14.2f}")
     sizes, est = estimate
-    made = {name: v[3] for name, v in results[0][1].items()}
+    made = {name: v[3] for name, v in first.items()}
     print(f"estimate before the bake: sizes {sizes}, {est.text()}; the default bake made "
           f"{made} in {wall0:.1f} s")
 

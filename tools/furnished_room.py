@@ -7,6 +7,9 @@ directory that holds the ``.gltf`` files and their ``textures/``.
 
     ./run py tools/furnished_room.py ASSETS_DIR out/furnished_room.blend [--render out/real_room.png]
 
+or from Python: ``build(asset_dir)`` returns ``{"sofa": [...], "curtain": [...]}`` (object
+names), as ``tools/real_room.py``'s does (``benchmarks/real_room_bake.py`` uses both).
+
 The room is imported the way an artist imports it (``bpy.ops.import_scene.gltf``), placed
 as the layout file places it (z-up metres, rotations about +Z), stood at 52° N with
 annual daylight (:func:`lightfade_addon.api.set_daylight`), and the fabrics, paints and
@@ -78,6 +81,32 @@ def mark_materials(recipes=RECIPES):
     return marked
 
 
+def build(assets, latitude=52.0, longitude=5.0, north=0.0):
+    """Build the room into a fresh file with LightFade enabled (nothing baked); returns
+    ``{role: [object names]}``: ``sofa`` and ``curtain`` (the meshes using those
+    materials), as :func:`tools.real_room.build` does."""
+    import bpy
+
+    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
+    import lightfade_addon
+    from lightfade_addon import api
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    lightfade_addon.register()
+    import_layout(pathlib.Path(assets).resolve())
+    mark_materials()
+    scene = bpy.context.scene
+    clear_glass()
+    add_view_light(scene)
+    api.set_daylight(scene, latitude, longitude, north=north)
+    bpy.context.view_layer.update()
+    roles = {}
+    for role, material in (("sofa", "sofa_03"), ("curtain", "curtain")):
+        roles[role] = [o.name for o in bpy.data.objects if o.type == "MESH"
+                       and any(m is not None and m.name == material for m in o.data.materials)]
+    return roles
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("assets", type=pathlib.Path)
@@ -90,18 +119,9 @@ def main(argv=None):
 
     import bpy
 
-    sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent))
-    import lightfade_addon
-    from lightfade_addon import api
-
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    lightfade_addon.register()
-    import_layout(args.assets.resolve())
-    print("marked:", ", ".join(mark_materials()))
+    roles = build(args.assets, args.latitude, args.longitude, args.north)
+    print(", ".join(f"{role}: {names}" for role, names in roles.items()))
     scene = bpy.context.scene
-    clear_glass()
-    add_view_light(scene)
-    api.set_daylight(scene, args.latitude, args.longitude, north=args.north)
     args.output.parent.mkdir(parents=True, exist_ok=True)
     bpy.ops.wm.save_as_mainfile(filepath=str(args.output.resolve()))
     print("saved", args.output)
