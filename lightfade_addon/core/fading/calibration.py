@@ -14,12 +14,19 @@ what the class fixes (``docs/recipes.md``):
     a class-``k`` first colourant (:func:`matched_rates`): equal classes, equal rates.
 
 The functions take a :class:`.recipes.Recipe` (they use its ``simulate``, ``optics``,
-``solver`` and ``base_concentrations``).
+``solver`` and ``base_concentrations``). A calibrated ``beta`` costs some 17
+simulations; it is kept in memory and in the grids' folder on disk
+(:func:`.cache.directory`, one small file per recipe, colourant and class, keyed by
+everything it depends on), so a new process does not solve it again.
 """
 
 from __future__ import annotations
 
 import functools
+import hashlib
+import json
+import os
+import tempfile
 from dataclasses import replace
 
 import numpy as np
@@ -51,6 +58,8 @@ RATE_REFERENCE = 0.5
 #: Light in which :func:`matched_rates` compares colourants: daylight behind window
 #: glass, the light of the ISO 105-B02 fastness test (filtered xenon arc).
 MATCHING_LIGHT = ("daylight-glass", False)
+#: Bumped whenever a calibrated ``beta`` would change for the same recipe and class.
+CALIBRATION_FORMAT = 1
 
 
 def blue_wool_dose(blue_wool):
@@ -82,9 +91,58 @@ def _calibration_fade(recipe, j, beta, dose, wavelengths):
                             reflectance_to_Lab(r.reflectance, wavelengths)))
 
 
+def _disk_key(recipe, j, blue_wool, lam):
+    """Hash of everything colourant ``j``'s calibrated ``beta`` depends on."""
+    parts = [CALIBRATION_FORMAT, repr(recipe), int(j), float(blue_wool), JND_DELTA_E,
+             BLUE_WOOL_1_DOSE]
+    h = hashlib.sha256(json.dumps(parts, default=str).encode())
+    light = light_spectrum(recipe.calibration_light, lam, recipe.calibration_uv_filter)
+    for a in (*recipe.optics(lam), light, lam):
+        h.update(np.ascontiguousarray(a, dtype=float).tobytes())
+    return h.hexdigest()[:32]
+
+
+def _disk_path(key):
+    from .cache import directory          # (cache imports the grid builder, which needs us)
+
+    return directory() / f"beta-{key}.json"
+
+
+def _load_beta(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            beta = float(json.load(f)["beta"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    return beta if np.isfinite(beta) and beta > 0 else None
+
+
+def _store_beta(path, beta):
+    """Write atomically (a temporary file renamed into place); a read-only folder is
+    not an error: the value is only not kept."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            json.dump({"beta": beta}, f)
+        os.replace(tmp, path)
+    except OSError:
+        pass
+
+
 @functools.lru_cache(maxsize=256)
 def _beta_cached(recipe, j, blue_wool, wavelengths):
     lam = np.asarray(wavelengths)
+    path = _disk_path(_disk_key(recipe, j, blue_wool, lam))
+    beta = _load_beta(path)
+    if beta is None:
+        beta = _solve_beta(recipe, j, blue_wool, lam)
+        _store_beta(path, beta)
+    return beta
+
+
+def _solve_beta(recipe, j, blue_wool, lam):
+    """``beta`` whose calibration fade is exactly :data:`JND_DELTA_E` (Brent's method)."""
     dose = blue_wool_dose(blue_wool)
 
     def excess(log_beta):                   # grows monotonically with beta
