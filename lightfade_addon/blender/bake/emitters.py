@@ -6,6 +6,12 @@ and their emission is off while baking).  Emitters with the
 same spectrum, UV filter and schedule form one light group and are baked into one map:
 their doses add linearly (reciprocity), so one map per group carries all the information
 aging needs.
+
+A Cycles **light portal** (an Area light with *Portal* on) is not an emitter: it emits
+nothing, it only shows Cycles where the world's light comes in through a window. It
+stays in the scene while the world or annual daylight is baked (there it lowers the
+noise of light through windows) and is hidden in every other group's bake, which has
+no world to guide.
 """
 
 from __future__ import annotations
@@ -64,6 +70,13 @@ def emission_sockets(material):
 def _on(strength, color):
     return ((strength.is_linked or strength.default_value > 0.0)
             and (color.is_linked or max(color.default_value[:3]) > 0.0))
+
+
+def is_portal(obj):
+    """An Area light with Cycles' *Portal* on (it guides world light, emits none)."""
+    light = obj.data if obj.type == "LIGHT" else None
+    return light is not None and light.type == "AREA" and bool(
+        getattr(getattr(light, "cycles", None), "is_portal", False))
 
 
 def _is_emissive_mesh(obj):
@@ -139,6 +152,8 @@ def find_emitters(scene, view_layer=None):
             continue
         if obj.type == "LIGHT":
             light = obj.data
+            if is_portal(obj):
+                continue
             if light.lightfade.enabled and light.energy > 0.0 and max(light.color) > 0.0 \
                     and not _daylight.stands_for_daylight(scene, light.lightfade, light.type):
                 emitters.append(Emitter(obj.name, light.type, obj))
@@ -214,12 +229,13 @@ def isolate(state, scene, group):
     """Let only ``group``'s emitters shine (other lamps hidden, emission off, no world; the
     daylight group: the annual sky as the world)."""
     members = {e.name for e in group.emitters}
+    sky = any(e.kind in ("DAYLIGHT", "WORLD") for e in group.emitters)
     if any(e.kind == "DAYLIGHT" for e in group.emitters):
         _daylight.use_annual_world(state, scene)
-    elif not any(e.kind == "WORLD" for e in group.emitters):
+    elif not sky:
         state.set(scene, "world", None)
     for obj in scene.objects:  # also what LightFade ignores (disabled) must stay dark
-        if obj.name in members or obj.hide_render:
+        if obj.name in members or obj.hide_render or (sky and is_portal(obj)):
             continue
         if obj.type == "LIGHT":
             state.set(obj, "hide_render", True)
