@@ -152,16 +152,36 @@ def build_floor_scene():
     return {"floor": floor, "box": box, "sun": sun, "material": mat, "albedo": albedo}
 
 
+def wrap_bsdf_in_group(material, colour):
+    """Route ``colour`` (an output socket in ``material``) into a Principled BSDF inside a
+    new node group feeding the Material Output (a BSDF inside a group); the group node."""
+    tree = material.node_tree
+    group = bpy.data.node_groups.new("Wrapped", "ShaderNodeTree")
+    group.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
+    group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
+    gin, gout = group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
+    inner = group.nodes.new("ShaderNodeBsdfPrincipled")
+    group.links.new(gin.outputs["Color"], inner.inputs["Base Color"])
+    group.links.new(inner.outputs["BSDF"], gout.inputs["Shader"])
+    node = tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = group
+    tree.links.new(colour, node.inputs["Color"])
+    tree.links.new(node.outputs["Shader"], tree.nodes["Material Output"].inputs["Surface"])
+    return node
+
+
 @pytest.fixture(scope="session")
 def lf():
     """Helpers for the tests: ``lf.add_sun``, ``lf.add_point``, ``lf.pixels``, ``lf.ROOT``,
-    ``lf.ADDON``, ``lf.reset_file``, ``lf.fresh_file`` and ``lf.build_floor_scene`` (the
-    scene of :func:`floor_scene`, for fixtures wider than one test)."""
+    ``lf.ADDON``, ``lf.reset_file``, ``lf.fresh_file``, ``lf.build_floor_scene`` (the
+    scene of :func:`floor_scene`, for fixtures wider than one test) and
+    ``lf.wrap_bsdf_in_group``."""
     from types import SimpleNamespace
 
     return SimpleNamespace(add_sun=add_sun, add_point=add_point, pixels=pixels, ROOT=ROOT,
                            ADDON=ADDON, reset_file=reset_file, fresh_file=fresh_file,
-                           build_floor_scene=build_floor_scene)
+                           build_floor_scene=build_floor_scene,
+                           wrap_bsdf_in_group=wrap_bsdf_in_group)
 
 
 def pixels(image):

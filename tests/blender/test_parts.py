@@ -380,24 +380,15 @@ def test_info_apply_and_a_rebake_with_parts(sofa):
     assert len(set(tables)) == 2 and all(t.name.startswith("LF_Table_") for t in tables)
 
 
-def test_a_bsdf_inside_a_node_group_on_the_baked_path(sofa):
+def test_a_bsdf_inside_a_node_group_on_the_baked_path(sofa, lf):
     """The colour BSDF inside a node group (the baked path): the mix goes into the copy's
     private group; a 'Does Not Age' attribute part keeps its texels at 30 years."""
     from lightfade_addon import api
 
     material = sofa["material"]
     tree = material.node_tree
-    group = bpy.data.node_groups.new("Wrapped", "ShaderNodeTree")
-    group.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
-    group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
-    gin, gout = group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
-    inner = group.nodes.new("ShaderNodeBsdfPrincipled")
-    group.links.new(gin.outputs["Color"], inner.inputs["Base Color"])
-    group.links.new(inner.outputs["BSDF"], gout.inputs["Shader"])
-    node = tree.nodes.new("ShaderNodeGroup")
-    node.node_tree = group
-    tree.links.new(tree.nodes["Image Texture"].outputs["Color"], node.inputs["Color"])
-    tree.links.new(node.outputs["Shader"], tree.nodes["Material Output"].inputs["Surface"])
+    image = tree.nodes["Image Texture"]
+    group = lf.wrap_bsdf_in_group(material, image.outputs["Color"]).node_tree
     floor = sofa["floor"]
     _split_floor(floor)
     attribute = floor.data.attributes.new("glass", "FLOAT", "FACE")

@@ -142,25 +142,16 @@ def test_reset_leaves_no_gate_and_a_changed_setting_is_stale(textured):
                    for n in m.node_tree.nodes)
 
 
-def test_a_bsdf_inside_a_node_group_is_gated_in_the_copy_s_group(textured, tmp_path):
+def test_a_bsdf_inside_a_node_group_is_gated_in_the_copy_s_group(textured, tmp_path, lf):
     """The colour BSDF inside a node group: the gate goes into the copy's private group
     (the user's stays as it was), and the camera still sees the aged colour."""
     from lightfade_addon import api
     from lightfade_addon.blender.aging.copies import GATE_MIX
 
     tree = textured["material"].node_tree
-    group = bpy.data.node_groups.new("Wrapped", "ShaderNodeTree")
-    group.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
-    group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
-    gin, gout = group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
-    inner = group.nodes.new("ShaderNodeBsdfPrincipled")
-    group.links.new(gin.outputs["Color"], inner.inputs["Base Color"])
-    group.links.new(inner.outputs["BSDF"], gout.inputs["Shader"])
-    node = tree.nodes.new("ShaderNodeGroup")
-    node.node_tree = group
     texture = next(n for n in tree.nodes if n.type == "TEX_IMAGE")
-    tree.links.new(texture.outputs["Color"], node.inputs["Color"])
-    tree.links.new(node.outputs["Shader"], tree.nodes["Material Output"].inputs["Surface"])
+    node = lf.wrap_bsdf_in_group(textured["material"], texture.outputs["Color"])
+    group = node.node_tree
     scene = bpy.context.scene
     _camera_and_render_settings(scene)
     scene.cycles.max_bounces = 0

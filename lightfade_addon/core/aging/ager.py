@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..fading.cache import load_or_build
-from ..colour.colorimetry import srgb_decode, srgb_encode, XYZ_to_linear_srgb
+from ..colour.colorimetry import checked_rgb, srgb_decode, srgb_encode, XYZ_to_linear_srgb
 from ..colour.gamut import encode_in_gamut, out_of_gamut
 from ..fading.grid import GridSettings
 from ..fading.lattice import grid_max_dose
@@ -110,11 +110,7 @@ class TextureAger:
             raise TypeError("recipe must be a Recipe or a recipe name")
         if encoding not in ("linear", "srgb"):
             raise ValueError(f"encoding must be 'linear' or 'srgb', got {encoding!r}")
-        rgb = np.asarray(rgb, dtype=np.float32)
-        if rgb.shape[-1] != 3:
-            raise ValueError(f"rgb must have 3 channels on the last axis, got shape {rgb.shape}")
-        if not np.all(np.isfinite(rgb)):
-            raise ValueError("rgb contains NaN or infinite values")
+        rgb = checked_rgb(rgb)
         if not lights:
             raise ValueError("at least one light is needed")
         if not (np.isfinite(max_years) and max_years > 0):

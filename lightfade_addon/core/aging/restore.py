@@ -87,6 +87,7 @@ import numpy as np
 
 from ..fading.cache import load_or_build
 from ..colour.colorimetry import (
+    checked_rgb,
     XYZ_to_Lab,
     XYZ_to_linear_srgb,
     delta_E_2000,
@@ -609,11 +610,7 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
         raise ValueError(f"years must be a finite number >= 0, got {years!r}")
     if encoding not in ("linear", "srgb"):
         raise ValueError(f"encoding must be 'linear' or 'srgb', got {encoding!r}")
-    rgb = np.asarray(rgb, dtype=np.float32)
-    if rgb.shape[-1] != 3:
-        raise ValueError(f"rgb must have 3 channels on the last axis, got shape {rgb.shape}")
-    if not np.all(np.isfinite(rgb)):
-        raise ValueError("rgb contains NaN or infinite values")
+    rgb = checked_rgb(rgb)
     if not lights:
         raise ValueError("at least one light is needed")
     say = progress or (lambda f, m: None)

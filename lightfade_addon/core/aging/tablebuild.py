@@ -26,10 +26,11 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..fading.cache import directory
-from ..colour.colorimetry import linear_srgb_to_XYZ, reflectance_to_XYZ, srgb_encode
+from ..colour.colorimetry import linear_srgb_to_XYZ, srgb_encode
 from .colourtable import ColourTable, mix_resolution
 from ..fading.model import simulate
 from ..fading.grid import FadeGrid, GridSettings
+from ..fading.gridbuild import XYZ_FLOOR, log_change
 from ..fading.lattice import concentration_axis, mix_lattice
 from .restore import restore
 from ..fading.spectra import WAVELENGTHS, light_spectrum
@@ -42,8 +43,6 @@ __all__ = ["TABLE_FORMAT", "TableSettings", "build_table", "load_or_build", "tab
 
 #: Bumped whenever a table's contents would change for the same inputs.
 TABLE_FORMAT = 2
-#: Smallest XYZ value in the log ratio (as the grid).
-_XYZ_FLOOR = 1e-6
 #: Change (log XYZ) below which the dose axis counts as saturated.
 _SATURATED = 2e-4
 #: Colours whose change curves are computed at once (bounds the temporaries).
@@ -137,12 +136,10 @@ def _simulate(recipe, spectra, doses, settings, say):
         r = simulate(A, Sc, c, beta, w @ spectra, ground, WAVELENGTHS,
                      thickness=recipe.thickness, duration=fine[-1], record=fine[1:],
                      yields=recipe.yield_matrix(), **recipe.solver())
-        XYZ0 = np.maximum(reflectance_to_XYZ(r.initial, WAVELENGTHS), _XYZ_FLOOR)
-        XYZ = np.maximum(reflectance_to_XYZ(r.history, WAVELENGTHS), _XYZ_FLOOR)
+        log_initial, change[k, 1:] = log_change(r, WAVELENGTHS, shape)
         if axes:
-            initial = np.log(XYZ0).reshape(shape + (3,)).astype(np.float32)
+            initial = log_initial
         change[k, 0] = 0.0
-        change[k, 1:] = np.log(XYZ / XYZ0).reshape((fine.size - 1,) + shape + (3,))
     change = np.moveaxis(dose_fit(np.moveaxis(change, 1, -2), sub), -2, 1)
     return FadeGrid("", recipe.name, axes, mixes, doses, change, q, initial)
 
@@ -235,11 +232,11 @@ def build_table(recipe, spectra_keys_, settings=TableSettings(), prior=None, pro
         seen = original = (u / (N - 1)) ** settings.gamma
         say(0.85, f"unmixing {seen.shape[0] - N ** 3} colours in the cells the gamut crosses")
         c = np.concatenate([c, _unmix(unmixer, srgb_encode(np.clip(seen[N ** 3:], 0, 1)))])
-    initial = np.log(np.maximum(unmixer.XYZ(c), _XYZ_FLOOR)) if grid.initial is not None else None
+    initial = np.log(np.maximum(unmixer.XYZ(c), XYZ_FLOOR)) if grid.initial is not None else None
     offset = None
     if prior is not None:
-        XYZ_seen = np.maximum(linear_srgb_to_XYZ(seen), _XYZ_FLOOR)
-        XYZ_new = np.maximum(linear_srgb_to_XYZ(np.clip(original, 0, None)), _XYZ_FLOOR)
+        XYZ_seen = np.maximum(linear_srgb_to_XYZ(seen), XYZ_FLOOR)
+        XYZ_new = np.maximum(linear_srgb_to_XYZ(np.clip(original, 0, None)), XYZ_FLOOR)
         offset = np.log(XYZ_new / XYZ_seen).astype(np.float32)
     # the axis is cut where the nodes (the first N³ samples) stop changing, then fitted
     T = _saturated_length(_curves(grid, c, initial, offset, slice(0, N ** 3)))

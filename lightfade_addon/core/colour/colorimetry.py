@@ -17,6 +17,7 @@ from functools import lru_cache
 import numpy as np
 
 __all__ = [
+    "checked_rgb",
     "xyz_weights",
     "white_XYZ",
     "reflectance_to_XYZ",
@@ -289,3 +290,14 @@ def rms_delta_R(R1, R2):
     """
     d = np.asarray(R1, dtype=float) - np.asarray(R2, dtype=float)
     return np.sqrt(np.mean(d * d, axis=-1))
+
+
+def checked_rgb(rgb):
+    """``rgb`` as float32 colours on the last axis (…, 3), or one clear ``ValueError``
+    (the shared input check of the agers, restore and the exact path)."""
+    rgb = np.asarray(rgb, dtype=np.float32)
+    if rgb.shape[-1:] != (3,):
+        raise ValueError(f"rgb must have 3 channels on the last axis, got shape {rgb.shape}")
+    if not np.all(np.isfinite(rgb)):
+        raise ValueError("rgb contains NaN or infinite values")
+    return rgb

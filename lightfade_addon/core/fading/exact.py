@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..colour.colorimetry import (
+    checked_rgb,
     XYZ_to_linear_srgb,
     linear_srgb_to_XYZ,
     reflectance_to_XYZ,
@@ -45,11 +46,7 @@ def age_image_exact(rgb, years, recipe="printed-paper", light=Light(), exposure=
     years = np.array([float(y) for y in np.atleast_1d(years)])
     if np.any(~np.isfinite(years)) or np.any(years < 0):
         raise ValueError("years must be finite numbers >= 0")
-    rgb = np.asarray(rgb, dtype=np.float32)
-    if rgb.shape[-1] != 3:
-        raise ValueError(f"rgb must have 3 channels on the last axis, got shape {rgb.shape}")
-    if not np.all(np.isfinite(rgb)):
-        raise ValueError("rgb contains NaN or infinite values")
+    rgb = checked_rgb(rgb)
     flat = rgb.reshape(-1, 3)
     n = flat.shape[0]
     say = progress or (lambda f, m: None)

@@ -16,7 +16,7 @@ from .grid import FadeGrid, GridSettings
 from .lattice import concentration_axis, dose_axis, mix_lattice
 from .spectra import WAVELENGTHS
 
-__all__ = ["GRID_FORMAT", "build_grid", "grid_key"]
+__all__ = ["GRID_FORMAT", "XYZ_FLOOR", "build_grid", "grid_key", "log_change"]
 
 #: Bumped whenever the grid's contents would change for the same inputs.
 GRID_FORMAT = 3
@@ -39,6 +39,17 @@ def grid_key(recipe, spectra, max_dose, settings, wavelengths=WAVELENGTHS):
     for a in (A, S, ground, np.asarray(spectra, dtype=float), np.asarray(wavelengths, float)):
         h.update(np.ascontiguousarray(a, dtype=float).tobytes())
     return h.hexdigest()[:32]
+
+
+def log_change(result, lam, shape):
+    """``log XYZ_initial`` (``shape + (3,)``, float32) and the change ``log(XYZ / XYZ_initial)``
+    at each recorded dose (``(T,) + shape + (3,)``) of a simulation ``result`` over the
+    concentration nodes of ``shape``; XYZ floored at :data:`XYZ_FLOOR` (black has no log)."""
+    XYZ0 = np.maximum(reflectance_to_XYZ(result.initial, lam), XYZ_FLOOR)
+    XYZ = np.maximum(reflectance_to_XYZ(result.history, lam), XYZ_FLOOR)
+    T = XYZ.shape[0]
+    return (np.log(XYZ0).reshape(shape + (3,)).astype(np.float32),
+            np.log(XYZ / XYZ0).reshape((T,) + shape + (3,)))
 
 
 def build_grid(recipe, spectra, max_dose, settings=GridSettings(), wavelengths=WAVELENGTHS,
@@ -76,12 +87,10 @@ def build_grid(recipe, spectra, max_dose, settings=GridSettings(), wavelengths=W
         if progress:
             progress(k / mixes.shape[0], f"simulating {recipe.name}: light mix {k + 1}/{len(mixes)}")
         r = recipe.simulate(c, w @ spectra, doses[-1], record=doses[1:], wavelengths=lam)
-        XYZ0 = np.maximum(reflectance_to_XYZ(r.initial, lam), XYZ_FLOOR)
-        XYZ = np.maximum(reflectance_to_XYZ(r.history, lam), XYZ_FLOOR)
+        log_initial, change[k, 1:] = log_change(r, lam, shape)
         if axes:
-            initial = np.log(XYZ0).reshape(shape + (3,)).astype(np.float32)
+            initial = log_initial
         change[k, 0] = 0.0
-        change[k, 1:] = np.log(XYZ / XYZ0).reshape((doses.size - 1,) + shape + (3,))
     if progress:
         progress(1.0, f"grid for {recipe.name} ready")
     key = grid_key(recipe, spectra, max_dose, settings, lam)
