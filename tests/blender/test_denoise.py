@@ -139,3 +139,19 @@ def test_3d_filter_keeps_the_edges_the_denoiser_saw_and_the_other_side(f3):
     out = f3.smooth_on_surface(both_raw, both_raw + 1e-3, both_p, both_n,
                                np.ones(both_raw.shape, bool), texel)
     assert np.all(out[:, n:] == 0) and np.allclose(out[:, :n], 1.0)
+
+
+def test_3d_filter_of_a_stack_is_each_map_filtered_alone(f3):
+    """An object's maps (one per light group) share one neighbour search: the stack's
+    result is each map's own, with its own range weights (a shadow edge in one map does
+    not cut the other)."""
+    rng = np.random.default_rng(7)
+    position, normal, covered, texel = flipped_halves()
+    lit = position[..., 1] < 32 * texel
+    guides = np.stack([np.where(lit, 1.0, 0.05), np.ones(lit.shape)])
+    raws = guides * rng.exponential(1.0, guides.shape)
+    both = f3.smooth_on_surface(raws, guides, position, normal, covered, texel)
+    for j in range(2):
+        alone = f3.smooth_on_surface(raws[j], guides[j], position, normal, covered, texel)
+        np.testing.assert_allclose(both[j], alone, rtol=1e-5, atol=1e-7)
+    assert not np.allclose(both[0], both[1], rtol=0.1)

@@ -173,6 +173,8 @@ class ExposureBake:
             objs = [o for o in targets if o.name not in names and not self._reusable(o, group)]
             if objs:
                 self.steps.append(_Step(group, objs))
+        # an object's maps are finished together, after its last group's bake
+        self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
         self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
                      for s in self.steps]
         return self
@@ -258,35 +260,40 @@ class ExposureBake:
             for image in images.values():
                 _daylight.stamp(image, self.scene, step.group)
         for obj in step.objects:
-            self._finish_map(obj, images[obj.name])
             self.maps.setdefault(obj.name, {})[step.group.name] = (step.group, images[obj.name])
+            if self.last_step[obj.name] == self.done:
+                self._finish_maps(obj, [image for _, image in self.maps[obj.name].values()])
         self.done += 1
         self._report_progress(step)
         return self.done < len(self.steps)
 
-    def _finish_map(self, obj, image):
-        """Denoise (keeping the raw bake's local mean), average the denoised map over its
-        3D neighbours on the surface (across islands), take the luminance, scale to lux:
+    def _finish_maps(self, obj, images):
+        """Once an object's last group is baked: denoise each of its maps (keeping the raw
+        bake's local mean), average them over their 3D neighbours on the surface (across
+        islands; one neighbour search for all of them), take the luminance, scale to lux:
         RGB = lux, A = 1."""
-        n = image.size[0]
-        px = np.empty(n * n * 4, dtype=np.float32)
-        image.pixels.foreach_get(px)
-        px = px.reshape(n, n, 4)
-        rgb = px[..., :3]
-        Y = luminance(rgb)
+        n = images[0].size[0]
+        pixels = []
+        for image in images:
+            px = np.empty(n * n * 4, dtype=np.float32)
+            image.pixels.foreach_get(px)
+            pixels.append(px.reshape(n, n, 4))
+        Y = np.stack([luminance(px[..., :3]) for px in pixels])
         if self.settings.denoise:
             geo = self.geometry[obj.name]
             inside = geo.island >= 0
-            denoised = _denoise.guard(_denoise.denoise(rgb, _denoise.island_colours(geo.island)),
-                                      rgb)
-            guide = _denoise.preserve_mean(luminance(denoised), Y, inside)
+            colours = _denoise.island_colours(geo.island)
+            guide = np.stack([
+                _denoise.preserve_mean(luminance(_denoise.guard(
+                    _denoise.denoise(px[..., :3], colours), px[..., :3])), Yg, inside)
+                for px, Yg in zip(pixels, Y)])
             Y = filter3d.smooth_on_surface(guide, guide, geo.position, geo.normal, geo.covered,
                                            geo.texel)
-            Y = filter3d.extend_over_margin(Y, geo.covered, inside)
-        lux = np.maximum(Y, 0.0) * LUX_PER_BAKE_UNIT
-        px[..., :3] = lux[..., None]
-        px[..., 3] = 1.0
-        image.pixels.foreach_set(px.ravel())
+            Y = [filter3d.extend_over_margin(Yg, geo.covered, inside) for Yg in Y]
+        for image, px, Yg in zip(images, pixels, Y):
+            px[..., :3] = (np.maximum(Yg, 0.0) * LUX_PER_BAKE_UNIT)[..., None]
+            px[..., 3] = 1.0
+            image.pixels.foreach_set(px.ravel())
 
     def _report_progress(self, step):
         done_work = sum(self.work[:self.done])

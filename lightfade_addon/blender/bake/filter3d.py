@@ -20,8 +20,9 @@ linear in the normal (``B ≈ a + b · ΔN``, to keep a fold's shading) measured
 on a real sofa and curtain and cost 3.4× the time; the normal ramp keeps the mean to
 texels that face nearly the same way.
 
-The bake (:meth:`.exposure.ExposureBake._finish_map`) smooths the denoised map, guided
-by itself.  Averaging the *raw* bake instead (unbiased, many more samples) was measured
+The bake (:meth:`.exposure.ExposureBake._finish_maps`) smooths the denoised maps of an
+object, each guided by itself, once its last light group is baked: the maps share one
+neighbour search.  Averaging the *raw* bake instead (unbiased, many more samples) was measured
 on a real sofa and curtain under annual daylight at 8 samples: a few texels of raw
 samples are still grain (p95 error at polygon centres 102 % and 89 %, against 94 % and
 54 % smoothing the denoised map; ``benchmarks/real_room_bake.py``).
@@ -46,14 +47,18 @@ _CHUNK = 65536
 def smooth_on_surface(raw, guide, position, normal, covered, texel,
                       radius_texels=RADIUS_TEXELS, neighbours=NEIGHBOURS, min_dot=MIN_DOT,
                       range_stops=RANGE_STOPS, floor=1e-3):
-    """``raw`` (H, W) averaged over its 3D neighbours on the surface, edges from ``guide``
-    (the equation above).
+    """``raw`` averaged over its 3D neighbours on the surface, edges from ``guide`` (the
+    equation above).
+
+    The maps of one object (one per light group) share its texels: stacked as
+    ``(G, H, W)`` they share one neighbour search and one set of distance and normal
+    weights ``K · n``; only the range weight ``g`` is each map's own.
 
     Parameters
     ----------
-    raw : ndarray, shape (H, W)
+    raw : ndarray, shape (H, W) or (G, H, W)
         The values to average (the raw bake, or the denoised map); any unit.
-    guide : ndarray, shape (H, W)
+    guide : ndarray, shape like ``raw``
         The map denoised (where the edges are); same unit.
     position, normal : ndarray, shape (H, W, 3)
         World position (m) and unit normal of each covered texel.
@@ -67,40 +72,45 @@ def smooth_on_surface(raw, guide, position, normal, covered, texel,
 
     Returns
     -------
-    ndarray, shape (H, W), float32
+    ndarray, shape like ``raw``, float32
         Covered texels: the weighted mean; others: ``guide``.
     """
     from scipy.spatial import cKDTree
 
-    out = np.asarray(guide, dtype=np.float32).copy()
+    single = np.ndim(guide) == 2
+    stack = (lambda a: np.asarray(a, dtype=np.float32)[None]) if single else (
+        lambda a: np.asarray(a, dtype=np.float32))
+    out = stack(guide).copy()
     cov = np.asarray(covered, bool)
     m = int(np.count_nonzero(cov))
     if m == 0:
-        return out
+        return out[0] if single else out
     P = np.asarray(position, dtype=np.float64)[cov]
     N = np.asarray(normal, dtype=np.float32)[cov]
-    B = np.asarray(raw, dtype=np.float32)[cov]
-    g = np.asarray(guide, dtype=np.float64)[cov]
-    top = float(np.percentile(g, 99)) if m else 0.0
-    level = np.log2(np.maximum(g, max(top * floor, 1e-30))).astype(np.float32)
+    B = stack(raw)[:, cov].T                                   # (m, G)
+    g = out[:, cov].T.astype(np.float64)
+    top = np.percentile(g, 99, axis=0)
+    level = np.log2(np.maximum(g, np.maximum(top * floor, 1e-30))).astype(np.float32)
     radius = float(radius_texels) * float(texel)
+    spread = np.float32(-0.5 / range_stops ** 2)
     tree = cKDTree(P)
     k = min(int(neighbours), m)
-    result = np.empty(m)
+    result = np.empty(B.shape, dtype=np.float32)
     for start in range(0, m, _CHUNK):
         rows = slice(start, min(start + _CHUNK, m))
         dist, idx = tree.query(P[rows], k=k, distance_upper_bound=radius, workers=-1)
         dist, idx = dist.reshape(-1, k), idx.reshape(-1, k)
         found = idx < m
         idx = np.where(found, idx, 0)
-        w = np.where(found, np.maximum(1.0 - (dist / radius) ** 2, 0.0), 0.0).astype(np.float32)
+        near = np.where(found, np.maximum(1.0 - (dist / radius) ** 2, 0.0), 0.0).astype(np.float32)
         dot = np.einsum("ic,ijc->ij", N[rows], N[idx])
-        w *= np.clip((dot - min_dot) / (1.0 - min_dot), 0.0, 1.0)
-        w *= np.exp(np.float32(-0.5 / range_stops ** 2) * (level[rows, None] - level[idx]) ** 2)
-        w[:, 0] = np.maximum(w[:, 0], 1e-6)          # the texel itself (distance 0) counts
-        result[rows] = (w * B[idx]).sum(axis=1) / w.sum(axis=1)
-    out[cov] = result.astype(np.float32)
-    return out
+        near *= np.clip((dot - min_dot) / (1.0 - min_dot), 0.0, 1.0)
+        for j in range(B.shape[1]):
+            w = near * np.exp(spread * (level[rows, j, None] - level[idx, j]) ** 2)
+            w[:, 0] = np.maximum(w[:, 0], 1e-6)      # the texel itself (distance 0) counts
+            result[rows, j] = (w * B[idx, j]).sum(axis=1) / w.sum(axis=1)
+    out[:, cov] = result.T
+    return out[0] if single else out
 
 
 def extend_over_margin(values, covered, inside):
