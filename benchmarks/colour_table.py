@@ -3,7 +3,7 @@
     ./run py -m benchmarks.colour_table                   # the default table
     ./run py -m benchmarks.colour_table --side 25 --per-decade 8 --size 160
     ./run py -m benchmarks.colour_table --photos DIR      # also every .png/.jpg in DIR
-    ./run py -m benchmarks.colour_table --per-cell 0 --substeps 2   # the fit's settings
+    ./run py -m benchmarks.colour_table --unmix-side 33 --substeps 1   # coarser tables
 
 Each photograph (found on this machine: matplotlib's Grace Hopper, colour-science's
 TM-30 background, Blender's bundled HDRIs tone-mapped to 8 bits, scikit-image's
@@ -100,16 +100,18 @@ def main(argv=None):
     p.add_argument("--recipe", default="printed-paper")
     p.add_argument("--photos", help="a folder of more photographs (.png, .jpg)")
     p.add_argument("--substeps", type=int, default=TableSettings.substeps)
-    p.add_argument("--per-cell", type=int, default=TableSettings.per_cell)
+    p.add_argument("--unmix-side", type=int, default=TableSettings.unmix_side)
+    p.add_argument("--power", type=float, default=TableSettings.power)
     a = p.parse_args(argv)
     recipe = get_recipe(a.recipe)
     settings = TableSettings(side=a.side, gamma=a.gamma, per_decade=a.per_decade,
                              grid=GridSettings(points=a.points), substeps=a.substeps,
-                             per_cell=a.per_cell)
+                             unmix_side=a.unmix_side, power=a.power)
     t0 = time.perf_counter()
     table = build_table(recipe, [(LIGHT.spectrum, LIGHT.uv_filter)], settings)
     built = time.perf_counter() - t0
-    print(f"table {a.recipe}: side {table.side}, gamma {table.gamma:g}, {table.T} dose nodes "
+    print(f"table {a.recipe}: side {table.side} (unmixing {table.unmix_side}), gamma "
+          f"{table.gamma:g}, power {table.power:g}, {table.T} dose nodes "
           f"(to {table.max_dose:.3g} lux·h), {table.values.nbytes / 1e6:.2f} MB half; "
           f"built in {built:.1f} s")
     worst = 0.0, 0.0

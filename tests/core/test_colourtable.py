@@ -5,15 +5,18 @@ import numpy as np
 import pytest
 
 from lightfade_addon.core.colour.colorimetry import (
+    XYZ_to_linear_srgb,
     XYZ_to_Lab,
     delta_E_2000,
     linear_srgb_to_XYZ,
     srgb_encode,
 )
+from lightfade_addon.core.fading.unmix import get_unmixer
 from lightfade_addon.core.aging.colourtable import (
     ColourTable,
     atlas_layout,
     atlas_pixels,
+    coordinates,
     cube_colours,
     dose_nodes,
     dose_position,
@@ -27,7 +30,7 @@ from lightfade_addon.core.fading.recipes import get_recipe
 from lightfade_addon.core.aging.restore import Prior
 from lightfade_addon.core.aging.tablebuild import TableSettings, build_table, load_or_build
 
-SMALL = TableSettings(side=5, per_decade=4, grid=GridSettings(points=5))
+SMALL = TableSettings(side=5, unmix_side=9, per_decade=4, grid=GridSettings(points=5))
 LIGHT = Light("daylight", False, 3000.0, 8.9, 365.0)
 KEY = [(LIGHT.spectrum, LIGHT.uv_filter)]
 
@@ -87,17 +90,23 @@ class TestEvaluate:
         assert np.abs(evaluate(paper, rgb, rates, 20.0) - evaluate(paper, rgb, rates, 1e9)
                       ).max() > 0.05
 
-    @pytest.mark.parametrize("per_decade,limit", [(8, 0.8), (12, 0.7)])
-    def test_at_the_cube_nodes_it_is_the_direct_simulation(self, per_decade, limit):
-        """Without the fit over the cells (``per_cell=0``) the table at its nodes is the
-        simulation (the grid's concentration spline and the dose axis are all that stand
-        between them): within ΔE00 ``limit`` of the exact path at 5 and 25 years of a
-        sunlit poster, closer with a finer dose axis."""
-        table = build_table(get_recipe("printed-paper"), KEY,
-                            TableSettings(side=5, per_decade=per_decade, per_cell=0))
-        rgb = cube_colours(5, table.gamma).astype(np.float32)
+    @pytest.mark.parametrize("substeps,limit", [(1, 1.5), (2, 1.0)])
+    def test_at_the_concentration_nodes_it_is_the_simulation(self, substeps, limit):
+        """The colours of the change table's concentration nodes land on those nodes
+        (the unmixing table is their inverse), and there the table is the simulation:
+        within ΔE00 ``limit`` of the exact path at 5 and 25 years of a sunlit poster,
+        closer with the kinetics stepped twice per dose node (the fit, :mod:`.tablefit`)."""
+        recipe = get_recipe("printed-paper")
+        table = build_table(recipe, KEY, TableSettings(side=5, unmix_side=33,
+                                                       substeps=substeps))
+        k = np.stack(np.meshgrid(*[np.arange(5)] * 3, indexing="ij"), -1).reshape(-1, 3)
+        rgb = XYZ_to_linear_srgb(get_unmixer(recipe).XYZ((k / 4.0) ** table.power))
+        inside = np.all((rgb > 1e-3) & (rgb < 1), axis=1)
+        rgb, k = rgb[inside].astype(np.float32), k[inside]
+        assert len(rgb) > 40
+        np.testing.assert_allclose(coordinates(table, rgb), k, atol=0.05)
         rates = np.full((1, len(rgb)), LIGHT.annual_dose, np.float32)
-        exact = age_image_exact(srgb_encode(rgb)[None], [5, 25], "printed-paper", LIGHT)
+        exact = age_image_exact(srgb_encode(rgb)[None], [5, 25], recipe, LIGHT)
         for years, ref in zip((5, 25), exact):
             ours = srgb_encode(evaluate(table, rgb, rates, years))
             from lightfade_addon.core.colour.colorimetry import srgb_decode
@@ -134,10 +143,13 @@ class TestAtlas:
     def test_round_trip(self, paper):
         back = table_from_atlas(atlas_pixels(paper), paper.info())
         np.testing.assert_array_equal(back.values, paper.values)
+        np.testing.assert_array_equal(back.unmix, paper.unmix)
+        assert back.power == paper.power
         np.testing.assert_allclose(back.doses, paper.doses)
 
     def test_tiles_hold_one_blue_node_dose_and_slot_each(self, paper):
-        W, H, P = atlas_layout(paper)
+        L = atlas_layout(paper)
+        P = L.P
         img = atlas_pixels(paper)
         slot, t, b, g, r = 0, paper.T - 1, 3, 2, 4
         np.testing.assert_array_equal(img[(slot * paper.T + t) * P + 1 + g, b * P + 1 + r, :3],
@@ -145,6 +157,14 @@ class TestAtlas:
         # padding copies the edge: bilinear lookups at the tile's border stay inside it
         np.testing.assert_array_equal(img[(slot * paper.T + t) * P, b * P + 1 + r, :3],
                                       paper.values[slot, t, b, 0, r].astype(np.float32))
+        # the unmixing's tiles, above the change's: blue node b at (b mod per_row, b div per_row)
+        A = paper.unmix_side
+        assert L.unmix_y == paper.slots * paper.T * P and L.height <= L.unmix_y + A * L.PA
+        b = A - 1
+        y0 = L.unmix_y + (b // L.per_row) * L.PA + 1
+        x0 = (b % L.per_row) * L.PA + 1
+        np.testing.assert_array_equal(img[y0 + g, x0 + r, :3],
+                                      paper.unmix[b, g, r].astype(np.float32))
 
 
 def test_tables_are_kept_on_disk(tmp_path, monkeypatch):

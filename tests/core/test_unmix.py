@@ -67,12 +67,48 @@ class TestUnmixer:
 
     def test_the_default_solve_is_converged(self, unmixer):
         """``refine=None`` (what ``--exact`` and the colour tables use) is the solution a
-        far longer solve finds, inside the gamut and out, to 1e-3 in concentration;
-        two steps (the older default) are not."""
+        far longer solve finds, inside the gamut and out, to 1e-3 in concentration; so
+        are two bounded steps, since the extension's Newton steps converge from them;
+        the table's estimate alone (``refine=0``) is not."""
         enc = np.random.default_rng(4).uniform(0, 1, (400, 3))
         long = unmixer.unmix(enc, encoded=True, refine=400)
         assert np.abs(unmixer.unmix(enc, encoded=True) - long).max() < 1e-3
-        assert np.abs(unmixer.unmix(enc, encoded=True, refine=2) - long).max() > 2e-3
+        assert np.abs(unmixer.unmix(enc, encoded=True, refine=2) - long).max() < 1e-3
+        assert np.abs(unmixer.unmix(enc, encoded=True, refine=0) - long).max() > 2e-3
+
+    def test_out_of_the_gamut_it_is_the_clip_of_the_extended_solution(self, unmixer):
+        """Eq. U1–U2: ``Φ`` solves the first-order extension exactly, inside the gamut
+        it is the exact inverse (no clip needed), and ``unmix`` is its clip."""
+        from lightfade_addon.core.colour.colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ
+        from lightfade_addon.core.fading.unmix import jacobian
+
+        rng = np.random.default_rng(8)
+        rgb = np.concatenate([rng.uniform(0, 0.01, (50, 3)),          # darker than the ink
+                              rng.uniform(0, 1, (150, 3)) ** 2.2])
+        phi = unmixer.extended(rgb)
+        out = np.any((phi < 0) | (phi > 1), axis=1)
+        assert out.sum() > 50 and (~out).sum() > 20
+        np.testing.assert_array_equal(unmixer.unmix(rgb), np.clip(phi, 0, 1))
+        inner = np.clip(phi, 0, 1)
+        L = unmixer.Lab(inner)
+        ext = L + np.einsum("nki,ni->nk", jacobian(unmixer.Lab, inner, L), phi - inner)
+        target = XYZ_to_Lab(linear_srgb_to_XYZ(rgb))
+        assert np.abs(ext - target).max() < 1e-3                      # ΔE*ab
+        assert np.abs(unmixer.Lab(phi[~out]) - target[~out]).max() < 1e-3
+
+    def test_the_extended_solution_is_smooth_across_the_faces(self, unmixer):
+        """Along a line through a gamut face ``Φ`` keeps its slope (C¹: second
+        differences stay at the size of the interior's), where the bounded solution
+        (the nearest reachable mixture) turns a corner."""
+        from lightfade_addon.core.colour.colorimetry import linear_srgb_to_XYZ, XYZ_to_Lab
+
+        s = np.linspace(0.0, 1.0, 81)[:, None]
+        rgb = (1 - s) * np.array([0.05, 0.05, 0.05]) + s * np.array([0.0015, 0.002, 0.001])
+        phi = unmixer.extended(rgb)
+        bounded = np.clip(phi, 0, 1)
+        assert np.any(phi > 1) and np.any(phi < 1)                   # the line crosses a face
+        curvature = np.abs(np.diff(phi, 2, axis=0)).max()
+        assert curvature < 0.25 * np.abs(np.diff(bounded, 2, axis=0)).max()
 
     def test_continuous_across_the_gamut_boundary(self, unmixer):
         """Along lines from inside the gamut far out of it the solution moves in steps

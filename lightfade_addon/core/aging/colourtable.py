@@ -1,14 +1,19 @@
-"""The colour-cube aging table: one per recipe and set of light spectra, and its evaluator.
+"""The aging table: one per recipe and set of light spectra, and its evaluator.
 
-The modelled change of a colour, ``log(XYZ_aged / XYZ_initial)``, is tabulated over
+Two lookups, each smooth where it interpolates (the paper's Section 5: a grid over
+colourant concentrations, looked up by interpolation):
 
-* the **colour cube**: ``N`` nodes per channel of the encoded colour
-  ``u = clip(rgb_linear, 0, 1) ** (1 / gamma)``;
-* the **dose**, an absolute axis in lux·h shared by every texel: node 0 at 0, node
-  ``t >= 1`` at ``low · 10 ** ((t - 1) / per_decade)``, up to the dose where the
-  recipe has stopped changing (the table is cut there, so huge doses saturate
-  cleanly: :func:`dose_position`);
-* the **light mix**: the slots of :func:`.table.simplex_slots` over the set's spectra.
+1. the **unmixing** ``Φ`` (:mod:`..fading.unmix`, Eq. U2): the concentrations a colour
+   needs, unbounded, tabulated over the colour cube (``A`` nodes per channel of
+   ``u = clip(rgb, 0, 1) ** (1 / gamma)``). ``Φ`` is smooth across the recipe's gamut;
+   its clip to [0, 1], which puts out-of-gamut colours on the gamut's faces, is
+   applied after the interpolation, so the faces are exact;
+2. the **change** ``log(XYZ_aged / XYZ_initial)`` over the concentrations (``N`` nodes
+   per colourant, evenly spaced in ``k = c ** (1 / power)``: the paper's grid), the
+   **dose** (an absolute axis in lux·h shared by every texel: node 0 at 0, node
+   ``t >= 1`` at ``low · 10 ** ((t - 1) / per_decade)``, cut where the recipe has stopped
+   changing: :func:`dose_position`) and the **light mix** (the slots of
+   :func:`.table.simplex_slots` over the set's spectra).
 
 Nothing in the table belongs to a texture: every material aged with the same recipe
 under the same spectra shares it, and it is looked up from the artist's own colour at
@@ -17,15 +22,18 @@ Per texel only the dose rates remain (the exposure maps themselves).
 
 The aged colour (linear sRGB ``rgb``, annual doses ``rate_s`` lux·h, ``years``)::
 
-    d = years · Σ_s rate_s                     s = dose_position(d)          (lux·h)
-    change = Σ_v w_v · lerp_b lerp_t bilerp_rg table[slot_v, t, b, g, r]
+    y = lerp_b bilerp_rg unmix[b, g, r]           k = clip(y, 0, 1) ** (1 / power)
+    d = years · Σ_s rate_s                        s = dose_position(d)          (lux·h)
+    change = Σ_v w_v · lerp_k3 lerp_t bilerp_k1k2 table[slot_v, t, k3, k2, k1]
     rgb_aged = into_gamut(M⁻¹ · (M · rgb) · exp(change))
 
-bilinear over (r, g) (a Linear image lookup in the node group), linear over ``b``
-and the dose by hand, barycentric over the light mix (:func:`.table.simplex_slots`).
+bilinear over two axes (a Linear image lookup in the node group), linear over the
+third and the dose by hand, barycentric over the light mix (:func:`.table.simplex_slots`).
+Recipes with fewer than three unmixed colourants leave the other axes at 0.
 At zero years the colour itself comes back, unless the table carries a *history*
-(a texture that is already old, :class:`.restore.Prior`): its change at dose 0 is
-then the restoration ``log(XYZ_new / XYZ_seen)``, built over the seen colour.
+(a texture that is already old, :class:`.restore.Prior`): its change is then tabulated
+over the seen colour's cube ``u`` itself (``unmix`` holds ``u ** power``, so ``k = u``)
+and at dose 0 is the restoration ``log(XYZ_new / XYZ_seen)``.
 
 :func:`evaluate` is the numpy evaluator; ``blender/aging/group.py`` builds the node
 group that computes the same from :func:`atlas_pixels`, and the two are tested
@@ -37,6 +45,7 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -44,8 +53,8 @@ from ..colour.colorimetry import XYZ_to_linear_srgb, linear_srgb_to_XYZ
 from ..colour.gamut import into_gamut_planes
 from .table import in_blocks, simplex_slots
 
-__all__ = ["ColourTable", "atlas_layout", "atlas_pixels", "cube_colours", "dose_position",
-           "evaluate", "mix_resolution", "table_from_atlas"]
+__all__ = ["AtlasLayout", "ColourTable", "atlas_layout", "atlas_pixels", "coordinates",
+           "cube_colours", "dose_position", "evaluate", "mix_resolution", "table_from_atlas"]
 
 #: Texels evaluated per block (bounds the temporaries) and threads.
 _BLOCK = 1 << 16
@@ -62,12 +71,14 @@ def mix_resolution(S):
 
 @dataclass(frozen=True)
 class ColourTable:
-    """The change over colour cube × dose × light-mix slot.
+    """The unmixing over the colour cube; the change over concentrations × dose ×
+    light-mix slot.
 
     Attributes
     ----------
     values : ndarray, shape (slots, T, N, N, N, 3), float16
-        ``log(XYZ_aged / XYZ_initial)``, axes slot, dose node, b, g, r.
+        ``log(XYZ_aged / XYZ_initial)``, axes slot, dose node, k3, k2, k1 (with a
+        history: b, g, r of the seen colour).
     doses : ndarray, shape (T,)
         lux·h of each dose node.
     gamma, per_decade, low_dose : float
@@ -77,6 +88,10 @@ class ColourTable:
     history : bool
         Built over seen colours of an already aged texture (dose 0 is the restoration).
     key : str
+    unmix : ndarray, shape (A, A, A, 3), float16
+        ``Φ`` (Eq. U2) at the colour cube's nodes, axes b, g, r; unused colourants 0.
+    power : float
+        Concentration axis spacing: node ``i`` of ``N`` at ``c = (i / (N - 1)) ** power``.
     lost : ndarray of bool, shape (N, N, N) or None
         With a history: cube nodes whose original the prior light erased.
     """
@@ -90,11 +105,17 @@ class ColourTable:
     S: int
     history: bool
     key: str
+    unmix: np.ndarray
+    power: float
     lost: np.ndarray | None = None
 
     @property
     def side(self):
         return self.values.shape[2]
+
+    @property
+    def unmix_side(self):
+        return self.unmix.shape[0]
 
     @property
     def T(self):
@@ -112,7 +133,8 @@ class ColourTable:
         """Everything but the values, as plain numbers (an image's custom property)."""
         return dict(side=self.side, T=self.T, slots=self.slots, gamma=self.gamma,
                     per_decade=self.per_decade, low_dose=self.low_dose, q=self.q, S=self.S,
-                    history=int(self.history), key=self.key, max_dose=self.max_dose)
+                    history=int(self.history), key=self.key, max_dose=self.max_dose,
+                    unmix_side=self.unmix_side, power=self.power)
 
 
 def dose_position(dose, low_dose, per_decade, T):
@@ -152,11 +174,36 @@ def _to_XYZ():
     return linear_srgb_to_XYZ(np.eye(3)).T.astype(np.float32)
 
 
-def _change(table, values, rgb, rates, years):
-    """``change`` (n, 3) float32 of colours ``rgb`` (n, 3) linear, ``rates`` (S, n);
-    ``values`` is ``table.values`` as float32."""
+def _bilinear(cells, N, tile, x, y):
+    """Bilinear lookup of a tile of ``N × N`` nodes (rows of ``cells``, (tiles · N², K)):
+    node coordinates ``x`` (fastest) and ``y``, (n,); ``tile`` (n,) int."""
+    x0 = np.minimum(np.floor(x), N - 2).astype(np.int64)
+    y0 = np.minimum(np.floor(y), N - 2).astype(np.int64)
+    fx, fy = (x - x0)[:, None], (y - y0)[:, None]
+    i = tile.astype(np.int64) * (N * N) + y0 * N + x0
+    a = cells[i] + fx * (cells[i + 1] - cells[i])
+    b = cells[i + N] + fx * (cells[i + N + 1] - cells[i + N])
+    return a + fy * (b - a)
+
+
+def coordinates(table, rgb, unmix=None):
+    """The change table's node coordinates ``k · (N - 1)`` (n, 3) of colours ``rgb``
+    (n, 3) linear: ``Φ`` interpolated over the colour cube (bilinear over r, g, linear
+    over b), clipped to [0, 1], ``** (1 / power)``; ``unmix``: ``table.unmix`` as float32."""
+    A = table.unmix_side
+    cells = (table.unmix.astype(np.float32) if unmix is None else unmix).reshape(-1, 3)
+    u = np.clip(rgb, 0.0, 1.0) ** np.float32(1.0 / table.gamma) * np.float32(A - 1)
+    b0 = np.minimum(np.floor(u[:, 2]), A - 2).astype(np.int32)
+    lo = _bilinear(cells, A, b0, u[:, 0], u[:, 1])
+    hi = _bilinear(cells, A, b0 + 1, u[:, 0], u[:, 1])
+    y = lo + (u[:, 2] - b0)[:, None] * (hi - lo)
+    return np.clip(y, 0.0, 1.0) ** np.float32(1.0 / table.power) * np.float32(table.side - 1)
+
+
+def _change(table, values, u, rates, years):
+    """``change`` (n, 3) float32 at node coordinates ``u`` (n, 3) (:func:`coordinates`),
+    ``rates`` (S, n); ``values`` is ``table.values`` as float32."""
     N, T = table.side, table.T
-    u = np.clip(rgb, 0.0, 1.0) ** np.float32(1.0 / table.gamma) * np.float32(N - 1)
     b0 = np.minimum(np.floor(u[:, 2]), N - 2).astype(np.int32)
     fb = (u[:, 2] - b0)[:, None]
     total = rates.sum(axis=0)
@@ -164,25 +211,17 @@ def _change(table, values, rgb, rates, years):
     t0 = np.minimum(np.floor(s), T - 2).astype(np.int32)
     ft = (s - t0)[:, None]
     if table.S == 1:
-        slots, weights = np.zeros((len(rgb), 1), np.int32), None
+        slots, weights = np.zeros((len(u), 1), np.int32), None
     else:
         with np.errstate(invalid="ignore", divide="ignore"):
             w = np.where(total > 0, rates / total, 0.0).T.astype(np.float32)
         w[total <= 0, 0] = 1.0
         slots, weights = simplex_slots(w, table.q)
-    change = np.zeros((len(rgb), 3), dtype=np.float32)
+    change = np.zeros((len(u), 3), dtype=np.float32)
     cells = values.reshape(-1, 3)
-    x0 = np.minimum(np.floor(u[:, 0]), N - 2).astype(np.int64)   # bilinear over (r, g):
-    y0 = np.minimum(np.floor(u[:, 1]), N - 2).astype(np.int64)   # a Linear image lookup
-    fx = (u[:, 0] - x0)[:, None]
-    fy = (u[:, 1] - y0)[:, None]
-    inside = y0 * N + x0
 
-    def bilinear(tile):
-        i = tile.astype(np.int64) * (N * N) + inside
-        a = cells[i] + fx * (cells[i + 1] - cells[i])
-        b = cells[i + N] + fx * (cells[i + N + 1] - cells[i + N])
-        return a + fy * (b - a)
+    def bilinear(tile):                          # a Linear image lookup
+        return _bilinear(cells, N, tile, u[:, 0], u[:, 1])
 
     for v in range(slots.shape[1]):
         corner = [bilinear((slots[:, v] * T + t0 + dt) * N + b0 + db)
@@ -223,11 +262,13 @@ def evaluate(table, rgb, rates, years, out=None):
         return res
     to_XYZ, to_rgb = _to_XYZ(), _to_rgb()
     values = table.values.astype(np.float32)
+    unmix = table.unmix.astype(np.float32)
 
     def block(s0):
         s1 = min(s0 + _BLOCK, n)
         c = rgb[s0:s1]
-        change = _change(table, values, c, rates[:, s0:s1], float(years))
+        change = _change(table, values, coordinates(table, c, unmix), rates[:, s0:s1],
+                         float(years))
         aged = (c @ to_XYZ.T) * np.exp(change)
         planes = np.ascontiguousarray((aged @ to_rgb.T).T)
         into_gamut_planes(planes)
@@ -240,29 +281,57 @@ def evaluate(table, rgb, rates, years, out=None):
 # ---------------------------------------------------------------------- the atlas image
 
 
+class AtlasLayout(NamedTuple):
+    """Where the two tables lie in the atlas image (texels).
+
+    The change's tiles (``P = N + 2`` square) come first: tile (column ``k3``, row
+    ``slot · T + t``), ``rows`` tile rows. The unmixing's tiles (``PA = A + 2``) follow
+    above them, ``per_row`` to a row: tile ``b`` at column ``b mod per_row``, row
+    ``b div per_row``, from texel row ``unmix_y``.
+    """
+
+    width: int
+    height: int
+    P: int
+    PA: int
+    per_row: int
+    unmix_y: int
+
+
 def atlas_layout(table):
-    """``(width, height, tile side P)`` of the atlas: tile (column ``b``, row
-    ``slot · T + t``) holds the (r, g) plane of blue node ``b``, dose node ``t`` and
-    light-mix slot ``slot``, one texel of padding (edge copies) around its N × N nodes,
-    so a node group finds a tile with one multiply-add per axis."""
-    P = table.side + 2
-    height = table.slots * table.T * P
+    """The :class:`AtlasLayout` of ``table``: each tile holds a plane of nodes (the
+    change: (k1, k2) of node k3, dose node t and light-mix slot; the unmixing: (r, g) of
+    blue node b) with one texel of padding (edge copies), so a node group finds a tile
+    with one multiply-add per axis."""
+    P, A = table.side + 2, table.unmix_side
+    PA = A + 2
+    width = max(table.side * P, PA)
+    per_row = width // PA
+    unmix_y = table.slots * table.T * P
+    height = unmix_y + -(-A // per_row) * PA
     if height > MAX_ATLAS_HEIGHT:
         raise ValueError(f"a colour table of {table.slots} light-mix slots x {table.T} dose "
                          f"nodes is {height} texels tall, more than {MAX_ATLAS_HEIGHT}")
-    return table.side * P, height, P
+    return AtlasLayout(width, height, P, PA, per_row, unmix_y)
 
 
 def atlas_pixels(table):
     """The table as an (H, W, 4) float32 image (bottom row first, as Blender stores it):
-    texel ``(b · P + 1 + i_r, (slot · T + t) · P + 1 + i_g)`` is node (r = i_r, g = i_g)."""
-    W, H, P = atlas_layout(table)
-    N = table.side
-    v = table.values.astype(np.float32)                             # (slot, t, b, g, r, 3)
+    texel ``(k3 · P + 1 + i1, (slot · T + t) · P + 1 + i2)`` is change node (i1, i2, k3);
+    texel ``((b mod per_row) · PA + 1 + i_r, unmix_y + (b div per_row) · PA + 1 + i_g)``
+    is unmixing node (i_r, i_g, b). Unused texels are 0, alpha 1."""
+    L = atlas_layout(table)
+    N, A = table.side, table.unmix_side
+    out = np.zeros((L.height, L.width, 4), dtype=np.float32)
+    out[..., 3] = 1.0
+    v = table.values.astype(np.float32)                             # (slot, t, k3, k2, k1, 3)
     padded = np.pad(v, ((0, 0), (0, 0), (0, 0), (1, 1), (1, 1), (0, 0)), mode="edge")
-    img = padded.transpose(0, 1, 3, 2, 4, 5).reshape(H, N * P, 3)   # rows: slot, t, g
-    out = np.ones((H, W, 4), dtype=np.float32)
-    out[..., :3] = img
+    out[:L.unmix_y, :N * L.P, :3] = padded.transpose(0, 1, 3, 2, 4, 5).reshape(
+        L.unmix_y, N * L.P, 3)                                      # rows: slot, t, k2
+    tiles = np.pad(table.unmix.astype(np.float32), ((0, 0), (1, 1), (1, 1), (0, 0)), mode="edge")
+    for b in range(A):
+        x, y = (b % L.per_row) * L.PA, L.unmix_y + (b // L.per_row) * L.PA
+        out[y:y + L.PA, x:x + L.PA, :3] = tiles[b]
     return out
 
 
@@ -270,9 +339,16 @@ def table_from_atlas(pixels, info):
     """The :class:`ColourTable` an :func:`atlas_pixels` image holds (``info``: its
     :meth:`ColourTable.info`); values as the image stores them."""
     N, T, slots = int(info["side"]), int(info["T"]), int(info["slots"])
-    P = N + 2
-    img = pixels[..., :3].reshape(slots, T, P, N, P, 3)[:, :, 1:-1, :, 1:-1]   # (slot, t, g, b, r)
+    A = int(info["unmix_side"])
+    P, PA = N + 2, A + 2
+    rows = slots * T * P
+    img = pixels[:rows, :N * P, :3].reshape(slots, T, P, N, P, 3)[:, :, 1:-1, :, 1:-1]
     values = np.ascontiguousarray(img.transpose(0, 1, 3, 2, 4, 5)).astype(np.float16)
+    per_row = max(N * P, PA) // PA
+    unmix = np.stack([pixels[rows + (b // per_row) * PA + 1:rows + (b // per_row) * PA + 1 + A,
+                             (b % per_row) * PA + 1:(b % per_row) * PA + 1 + A, :3]
+                      for b in range(A)]).astype(np.float16)
     return ColourTable(values, dose_nodes(float(info["low_dose"]), float(info["per_decade"]), T),
                        float(info["gamma"]), float(info["per_decade"]), float(info["low_dose"]),
-                       int(info["q"]), int(info["S"]), bool(info["history"]), str(info["key"]))
+                       int(info["q"]), int(info["S"]), bool(info["history"]), str(info["key"]),
+                       unmix, float(info["power"]))

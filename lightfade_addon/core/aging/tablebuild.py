@@ -1,16 +1,16 @@
 """Building a colour table (:mod:`.colourtable`): one simulation per concentration node.
 
 The recipe's colourants are simulated at the paper's grid of concentrations (Section 5)
-for each light mix of the set's spectra, recording the table's own dose axis (absolute
-lux·h, :func:`.colourtable.dose_position`) up to :attr:`TableSettings.ceiling` (with
-:attr:`TableSettings.substeps` points per node interval, fitted to the nodes); the
-cube's nodes are unmixed (:mod:`.unmix`, to convergence, as ``age-image --exact``),
-and so are :attr:`TableSettings.per_cell` random colours in every cell the gamut's
-faces cross; their change is interpolated on that grid (:meth:`.grid.FadeGrid.curves`),
-the dose axis cut where nothing changes any more, and the node values are the
-least-squares fit of the evaluator's own interpolant to those changes
-(:mod:`.tablefit`). Tables are kept on disk (:func:`load_or_build`) like grids, keyed
-by everything they depend on.
+— the change table's own nodes — for each light mix of the set's spectra, recording the
+table's dose axis (absolute lux·h, :func:`.colourtable.dose_position`) up to
+:attr:`TableSettings.ceiling` with :attr:`TableSettings.substeps` points per node
+interval, fitted to the nodes (:mod:`.tablefit`), and cut where nothing changes any
+more. The unmixing table is ``Φ`` (:mod:`..fading.unmix`, Eq. U2, to convergence as
+``age-image --exact``) at the colour cube's nodes. A table with a history is built over
+the seen colours' cube instead: each node restored to new (:mod:`.restore`), unmixed
+and its change interpolated on the paper's grid (:meth:`.grid.FadeGrid.curves`).
+Tables are kept on disk (:func:`load_or_build`) like grids, keyed by everything they
+depend on.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ import numpy as np
 
 from ..fading.cache import directory
 from ..colour.colorimetry import linear_srgb_to_XYZ, srgb_encode
-from .colourtable import ColourTable, mix_resolution
+from .colourtable import ColourTable, cube_colours, mix_resolution
 from ..fading.model import simulate
 from ..fading.grid import FadeGrid, GridSettings
 from ..fading.gridbuild import XYZ_FLOOR, log_change
@@ -36,17 +36,16 @@ from .restore import restore
 from ..fading.spectra import WAVELENGTHS, light_spectrum
 from .table import in_blocks, mix_slots
 from ..fading.unmix import get_unmixer
-from .tablefit import (cell_samples, dose_fit, fine_doses, interpolation_matrix, kinked_cells,
-                       lattice_solve)
+from .tablefit import dose_fit, fine_doses
 
 __all__ = ["TABLE_FORMAT", "TableSettings", "build_table", "load_or_build", "table_key"]
 
 #: Bumped whenever a table's contents would change for the same inputs.
-TABLE_FORMAT = 2
+TABLE_FORMAT = 3
 #: Change (log XYZ) below which the dose axis counts as saturated.
 _SATURATED = 2e-4
-#: Colours whose change curves are computed at once (bounds the temporaries).
-_FIT_BLOCK = 2048
+#: ``Φ`` is kept within [-UNMIX_MARGIN, 1 + UNMIX_MARGIN]: past it the clip decides.
+UNMIX_MARGIN = 1.0
 #: Threads the cube's colours are unmixed on.
 _THREADS = max(1, min(4, os.cpu_count() or 1))
 
@@ -58,9 +57,15 @@ class TableSettings:
     Attributes
     ----------
     side : int
-        Nodes per channel of the colour cube (``N``).
+        Nodes per axis of the change table (``N``): per unmixed colourant (with a
+        history: per channel of the seen colour's cube).
+    unmix_side : int
+        Nodes per channel of the unmixing table's colour cube (``A``).
     gamma : float
-        The cube's encoding ``u = rgb ** (1 / gamma)`` (denser in the darks).
+        The colour cube's encoding ``u = rgb ** (1 / gamma)`` (denser in the darks).
+    power : float
+        The concentration axis: node ``i`` at ``c = (i / (N - 1)) ** power`` (denser
+        near 0, where reflectance changes fastest).
     per_decade : int
         Dose nodes per decade of lux·h.
     low_dose : float
@@ -68,26 +73,22 @@ class TableSettings:
     ceiling : float
         Largest dose simulated, lux·h; the axis is cut where the recipe stops changing.
     grid : GridSettings
-        Concentration nodes simulated (the paper's grid); the cube's colours are
-        unmixed and interpolated on it (``points`` and ``power`` are used).
+        With a history: the concentration grid the restored colours' change is
+        interpolated on (``points`` and ``power``).
     substeps : int
         Dose points per node interval simulated and fitted (:mod:`.tablefit`); 1: the
-        nodes themselves (2 takes ~0.05 off the 25-year error of smooth colours and
-        doubles the simulation).
-    per_cell : int
-        Random colours per cube cell the gamut's faces cross (:func:`.tablefit.
-        kinked_cells`) the node values are fitted to, besides the nodes (0: the nodes'
-        own values). Tables with a history use the nodes only.
+        nodes themselves.
     """
 
     side: int = 17
+    unmix_side: int = 49
     gamma: float = 2.2
+    power: float = 1.6
     per_decade: int = 8
     low_dose: float = 1e4
     ceiling: float = 1e14
     grid: GridSettings = GridSettings(points=8)
-    substeps: int = 1
-    per_cell: int = 4
+    substeps: int = 2
 
 def _dose_axis(settings):
     """Dose nodes 0, low, …, ceiling (lux·h)."""
@@ -108,8 +109,9 @@ def table_key(recipe, spectra_keys_, settings, prior=None):
     return h.hexdigest()[:32]
 
 
-def _simulate(recipe, spectra, doses, settings, say):
-    """A :class:`.grid.FadeGrid` on ``doses`` (the grid's concentration nodes).
+def _simulate(recipe, spectra, doses, settings, grid, say):
+    """A :class:`.grid.FadeGrid` on ``doses`` at the concentration nodes of ``grid``
+    (:class:`.grid.GridSettings`).
 
     Simulated at :attr:`TableSettings.substeps` points per dose interval and fitted
     to the nodes (:func:`.tablefit.dose_fit`): the change curves' interpolation in
@@ -117,8 +119,7 @@ def _simulate(recipe, spectra, doses, settings, say):
     colour's curve."""
     sub = max(1, settings.substeps)
     fine = fine_doses(settings.low_dose, settings.per_decade, doses.size, sub)
-    axes = [concentration_axis(settings.grid.points, settings.grid.power)
-            for _ in recipe.unmixed]
+    axes = [concentration_axis(grid.points, grid.power) for _ in recipe.unmixed]
     q = mix_resolution(spectra.shape[0])
     mixes = mix_lattice(spectra.shape[0], q)
     nodes = (np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, len(axes))
@@ -144,48 +145,76 @@ def _simulate(recipe, spectra, doses, settings, say):
     return FadeGrid("", recipe.name, axes, mixes, doses, change, q, initial)
 
 
-def _saturated_length(curves):
+def _saturated_length(values):
     """Dose nodes to keep: up to the first after which nothing changes by
-    :data:`_SATURATED` any more (curves (U, M, T, 3))."""
-    last = curves[:, :, -1:]
-    moving = np.abs(curves - last).max(axis=(0, 1, 3)) > _SATURATED
-    idx = np.flatnonzero(moving)
-    return int(min(curves.shape[2], (idx[-1] + 2) if idx.size else 2))
+    :data:`_SATURATED` any more (values (M, T, ..., 3))."""
+    moving = np.abs(values - values[:, -1:]).reshape(values.shape[:2] + (-1,)).max(axis=(0, 2))
+    idx = np.flatnonzero(moving > _SATURATED)
+    return int(min(values.shape[1], (idx[-1] + 2) if idx.size else 2))
 
 
-def _unmix(unmixer, encoded):
-    """Converged concentrations of encoded colours (n, 3), in blocks on threads (the
-    rows are independent: the result does not depend on the blocks)."""
+def _solve(unmixer, encoded, extended=False):
+    """Converged concentrations (``extended``: ``Φ``, unbounded) of encoded colours
+    (n, 3), in blocks on threads (the rows are independent: the result does not depend
+    on the blocks)."""
     c = np.zeros((encoded.shape[0], unmixer.Cu))
     if unmixer.Cu == 0:
         return c
     size = -(-encoded.shape[0] // _THREADS)
+    solve = unmixer.extended if extended else unmixer.unmix
 
     def block(s0):
-        c[s0:s0 + size] = unmixer.unmix(encoded[s0:s0 + size], encoded=True)
+        c[s0:s0 + size] = solve(encoded[s0:s0 + size], encoded=True)
 
     in_blocks(block, encoded.shape[0], size, _THREADS)
     return c
 
 
-def _curves(grid, c, initial, offset, rows):
-    """Change curves (U, M, T, 3) of samples ``rows``, plus a history's ``offset``."""
-    curves = grid.curves(c[rows], None if initial is None else initial[rows])
-    if offset is not None:
-        curves += offset[rows, None, None, :]
-    return curves
+def _unmixing(unmixer, settings, say):
+    """``Φ`` at the colour cube's nodes, (A, A, A, 3) axes b, g, r, float16; unused
+    colourants 0."""
+    A = settings.unmix_side
+    say(0.8, f"unmixing {A ** 3} colours")
+    phi = np.zeros((A ** 3, 3))
+    phi[:, :unmixer.Cu] = _solve(unmixer, srgb_encode(cube_colours(A, settings.gamma)), True)
+    phi = np.clip(phi, -UNMIX_MARGIN, 1.0 + UNMIX_MARGIN)
+    return phi.reshape(A, A, A, 3).astype(np.float16)
 
 
-def _fit(grid, u, N, c, initial, offset):
-    """Node values (N³, M, T, 3) fitted to the samples' curves (:mod:`.tablefit`)."""
-    W = interpolation_matrix(u, N)
-    M, T = grid.change.shape[:2]
-    rhs = np.zeros((N ** 3, M * T * 3))
-    for s0 in range(0, u.shape[0], _FIT_BLOCK):
-        rows = slice(s0, s0 + _FIT_BLOCK)
-        curves = _curves(grid, c, initial, offset, rows)
-        rhs += W[rows].T @ curves.reshape(curves.shape[0], -1).astype(np.float64)
-    return lattice_solve(W, rhs).reshape(N ** 3, M, T, 3).astype(np.float32)
+def _over_concentrations(recipe, spectra, doses, settings, say):
+    """The change (M, T, N, N, N, 3), axes mix, dose, k3, k2, k1, at the concentration
+    nodes ``c = (k / (N - 1)) ** power``: the simulation's own nodes."""
+    N = settings.side
+    grid = _simulate(recipe, spectra, doses, settings,
+                     GridSettings(points=N, power=settings.power), say)
+    change = grid.change                                   # (M, T, c1, ..., c_Cu, 3)
+    Cu = change.ndim - 3
+    change = change.reshape(change.shape[:2 + Cu] + (1,) * (3 - Cu) + (3,))
+    change = np.broadcast_to(change, change.shape[:2] + (N, N, N, 3))
+    return np.ascontiguousarray(change.transpose(0, 1, 4, 3, 2, 5))
+
+
+def _over_seen_colours(recipe, spectra, doses, settings, prior, restore_kw, say):
+    """With a history: the change (M, T, N, N, N, 3), axes mix, dose, b, g, r of the
+    seen colour's cube, from the restored colour (dose 0: the restoration), and the
+    nodes whose original the prior light erased."""
+    N = settings.side
+    seen = cube_colours(N, settings.gamma)
+    say(0.0, "restoring the cube's colours to new")
+    back = restore(seen, prior.years, recipe, prior.lights, encoding="linear",
+                   **(restore_kw or {}))
+    original, lost = back.image.astype(float), back.lost.reshape((N,) * 3)
+    grid = _simulate(recipe, spectra, doses, settings, settings.grid, say)
+    unmixer = get_unmixer(recipe)
+    say(0.8, f"unmixing {seen.shape[0]} colours")
+    c = _solve(unmixer, srgb_encode(np.clip(original, 0, 1)))
+    initial = np.log(np.maximum(unmixer.XYZ(c), XYZ_FLOOR)) if grid.initial is not None else None
+    curves = grid.curves(c, initial)                       # (N³, M, T, 3)
+    XYZ_seen = np.maximum(linear_srgb_to_XYZ(seen), XYZ_FLOOR)
+    XYZ_new = np.maximum(linear_srgb_to_XYZ(np.clip(original, 0, None)), XYZ_FLOOR)
+    curves += np.log(XYZ_new / XYZ_seen).astype(np.float32)[:, None, None, :]
+    change = np.moveaxis(curves, 0, 2).reshape(curves.shape[1:3] + (N, N, N, 3))
+    return change, lost
 
 
 def build_table(recipe, spectra_keys_, settings=TableSettings(), prior=None, progress=None,
@@ -212,48 +241,28 @@ def build_table(recipe, spectra_keys_, settings=TableSettings(), prior=None, pro
     say = progress or (lambda f, m: None)
     keys = [tuple(k) for k in spectra_keys_]
     spectra = np.stack([light_spectrum(s, WAVELENGTHS, uv) for s, uv in keys])
-    N = settings.side
     doses = _dose_axis(settings)
-    u = cell_samples(N, 0)
-    seen = (u / (N - 1)) ** settings.gamma                  # linear sRGB, nodes first
-    lost = None
-    original = seen
-    if prior is not None:
-        say(0.0, "restoring the cube's colours to new")
-        back = restore(seen, prior.years, recipe, prior.lights, encoding="linear",
-                       **(restore_kw or {}))
-        original, lost = back.image.astype(float), back.lost.reshape((N,) * 3)
-    grid = _simulate(recipe, spectra, doses, settings, say)
-    say(0.8, f"unmixing {seen.shape[0]} colours")
-    unmixer = get_unmixer(recipe)
-    c = _unmix(unmixer, srgb_encode(np.clip(original, 0, 1)))
-    if prior is None and settings.per_cell > 0 and unmixer.Cu:
-        u = cell_samples(N, settings.per_cell, cells=kinked_cells(c, N))
-        seen = original = (u / (N - 1)) ** settings.gamma
-        say(0.85, f"unmixing {seen.shape[0] - N ** 3} colours in the cells the gamut crosses")
-        c = np.concatenate([c, _unmix(unmixer, srgb_encode(np.clip(seen[N ** 3:], 0, 1)))])
-    initial = np.log(np.maximum(unmixer.XYZ(c), XYZ_FLOOR)) if grid.initial is not None else None
-    offset = None
-    if prior is not None:
-        XYZ_seen = np.maximum(linear_srgb_to_XYZ(seen), XYZ_FLOOR)
-        XYZ_new = np.maximum(linear_srgb_to_XYZ(np.clip(original, 0, None)), XYZ_FLOOR)
-        offset = np.log(XYZ_new / XYZ_seen).astype(np.float32)
-    # the axis is cut where the nodes (the first N³ samples) stop changing, then fitted
-    T = _saturated_length(_curves(grid, c, initial, offset, slice(0, N ** 3)))
-    grid = replace(grid, doses=grid.doses[:T], change=grid.change[:, :T], _spline=None)
-    say(0.9, f"fitting the table to {seen.shape[0]} colours")
-    fitted = _fit(grid, u, N, c, initial, offset)
+    q = mix_resolution(len(keys))
     if prior is None:
-        fitted[:, :, 0] = 0.0                                   # 0 years: the colour itself
-    rows = mix_slots(len(keys), grid.q)
+        change, lost = _over_concentrations(recipe, spectra, doses, settings, say), None
+        unmix = _unmixing(get_unmixer(recipe), settings, say)
+    else:
+        change, lost = _over_seen_colours(recipe, spectra, doses, settings, prior,
+                                          restore_kw, say)
+        u = np.linspace(0.0, 1.0, settings.unmix_side) ** settings.power   # k = u
+        b, g, r = np.meshgrid(u, u, u, indexing="ij")
+        unmix = np.stack([r, g, b], -1).astype(np.float16)
+    T = _saturated_length(change)
+    rows = mix_slots(len(keys), q)
+    N = settings.side
     values = np.zeros((rows.size, T, N, N, N, 3), dtype=np.float16)
     used = rows >= 0
-    values[used] = np.moveaxis(fitted[:, rows[used], :T], 0, 2).reshape(
-        int(used.sum()), T, N, N, N, 3)
+    values[used] = change[rows[used], :T]
     say(1.0, "table ready")
     return ColourTable(values, doses[:T].astype(np.float64), float(settings.gamma),
-                       float(settings.per_decade), float(settings.low_dose), grid.q, len(keys),
-                       prior is not None, table_key(recipe, keys, settings, prior), lost)
+                       float(settings.per_decade), float(settings.low_dose), q, len(keys),
+                       prior is not None, table_key(recipe, keys, settings, prior), unmix,
+                       float(settings.power), lost)
 
 def load_or_build(recipe, spectra_keys_, settings=TableSettings(), prior=None, progress=None,
                   cache=True, restore_kw=None):
@@ -268,7 +277,8 @@ def load_or_build(recipe, spectra_keys_, settings=TableSettings(), prior=None, p
                     lost = z["lost"] if z["lost"].size else None
                     return ColourTable(z["values"], z["doses"], info["gamma"],
                                        info["per_decade"], info["low_dose"], info["q"],
-                                       info["S"], bool(info["history"]), key, lost)
+                                       info["S"], bool(info["history"]), key, z["unmix"],
+                                       info["power"], lost)
         except (OSError, KeyError, ValueError):
             pass
     table = build_table(recipe, spectra_keys_, settings, prior, progress, restore_kw)
@@ -279,7 +289,8 @@ def load_or_build(recipe, spectra_keys_, settings=TableSettings(), prior=None, p
 
 def _write(path, table):
     buf = io.BytesIO()
-    np.savez(buf, values=table.values, doses=table.doses, info=json.dumps(table.info()),
+    np.savez(buf, values=table.values, doses=table.doses, unmix=table.unmix,
+             info=json.dumps(table.info()),
              lost=table.lost if table.lost is not None else np.zeros(0, bool))
     try:
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -3,10 +3,21 @@
 Before exposure the medium is homogeneous, so its reflectance is Kubelka's single
 layer over the substrate, exactly (:func:`forward_reflectance`). :class:`Unmixer`
 inverts it: for a colour it finds the concentrations of the recipe's unmixed
-colourants whose colour is nearest in CIELAB, within [0, 1] (colours outside the
-recipe's gamut get the nearest reachable mixture). The inversion is a projected
-Gauss–Newton solve in CIELAB, started from the nearest of a table of forward
-samples. For images, a coarse 17³ table over encoded sRGB gives each unique colour
+colourants whose colour is nearest in CIELAB. The inversion is a projected
+Gauss–Newton solve in CIELAB within [0, 1], started from the nearest of a table of
+forward samples, then continued past the box on the forward model extended to first
+order (:func:`extended_newton`):
+
+    Lab_ext(c) = Lab(ĉ) + J(ĉ) · (c − ĉ),        ĉ = clip(c, 0, 1)            (U1)
+    Φ(x) solves Lab_ext(Φ) = Lab(x),              c(x) = clip(Φ(x), 0, 1)     (U2)
+
+Inside the gamut ``c = Φ``, the exact inverse. A colour outside it (darker than the
+recipe's densest mixture, brighter than its paper) gets the concentrations it would
+need, clipped: ``Φ`` is smooth (``Lab_ext`` is C¹ across the box's faces), so every
+kink of ``c`` lies on the planes ``Φ_k = 0`` and ``Φ_k = 1``, which the colour table
+resolves exactly (:mod:`..aging.colourtable`: it tabulates ``Φ`` over the colour cube
+and the change over the concentrations). For one or two unmixed colourants ``Φ`` is
+the least-squares solution of (U2). For images, a coarse 17³ table over encoded sRGB gives each unique colour
 its starting point and Gauss–Newton steps make it exact: by default
 (``refine=None``) every colour is solved to convergence (:data:`CONVERGED`), which
 is what ``age-image --exact`` and the colour tables use, so the reference and the
@@ -24,8 +35,8 @@ from .kubelka import kubelka_layer, over_ground
 from .recipes import Recipe
 from .spectra import WAVELENGTHS
 
-__all__ = ["CONVERGED", "STEP_TOLERANCE", "Unmixer", "bounded_gauss_newton", "forward_reflectance", "get_unmixer", "jacobian",
-           "pseudo_inverse"]
+__all__ = ["CONVERGED", "EXTENSION_STEPS", "STEP_TOLERANCE", "Unmixer", "bounded_gauss_newton",
+           "extended_newton", "forward_reflectance", "get_unmixer", "jacobian", "pseudo_inverse"]
 
 
 #: Most Gauss–Newton steps of a converged solve (``refine=None``); rows leave as soon
@@ -33,6 +44,8 @@ __all__ = ["CONVERGED", "STEP_TOLERANCE", "Unmixer", "bounded_gauss_newton", "fo
 CONVERGED = 80
 #: Concentration step (volume fraction) below which a row counts as converged.
 STEP_TOLERANCE = 1e-6
+#: Most Newton steps past the box (:func:`extended_newton`).
+EXTENSION_STEPS = 30
 
 
 def forward_reflectance(recipe, c, wavelengths=WAVELENGTHS):
@@ -162,6 +175,40 @@ def bounded_gauss_newton(F, c, target, iterations, h=1e-5, jac=None, tol=0.0, st
     return c
 
 
+def extended_newton(F, c, target, steps=EXTENSION_STEPS, h=1e-5, step_tol=STEP_TOLERANCE):
+    """Solve ``Lab_ext(c) = target`` (Eq. U1; least squares for fewer than three
+    colourants) by Gauss–Newton steps with ``J(ĉ)``, from ``c``, in place.
+
+    Parameters
+    ----------
+    F : callable, F(x) -> (n, K)
+        Row-wise forward model on [0, 1] (CIELAB of concentrations).
+    c : ndarray, shape (N, Cu)
+        Start (the bounded solution); overwritten with ``Φ``, unbounded.
+    target : ndarray, shape (N, K)
+    steps : int
+        Most steps; rows leave once their step is below ``step_tol``.
+
+    Returns
+    -------
+    ndarray, shape (N, Cu)
+        ``c``.
+    """
+    active = np.arange(c.shape[0])
+    for _ in range(steps):
+        if active.size == 0:
+            break
+        ca = c[active]
+        inner = np.clip(ca, 0.0, 1.0)
+        F_c = F(inner)
+        J = jacobian(F, inner, F_c, h)
+        r = F_c + np.einsum("nki,ni->nk", J, ca - inner) - target[active]
+        delta = np.einsum("nik,nk->ni", pseudo_inverse(J), r)
+        c[active] = ca - delta
+        active = active[np.abs(delta).max(axis=1) > step_tol]
+    return c
+
+
 class Unmixer:
     """Inverse of the forward model for one recipe.
 
@@ -225,6 +272,15 @@ class Unmixer:
                                         h, step_tol=STEP_TOLERANCE)
         return bounded_gauss_newton(lambda x, rows=None: self.Lab(x), c, Lab, iterations, h)
 
+    def extended(self, rgb, encoded=False):
+        """``Φ`` (Eq. U2) of colours (N, 3), unbounded: the concentrations a colour
+        needs on the forward model extended past [0, 1] (what the colour table
+        tabulates; :meth:`unmix` is its clip)."""
+        rgb = np.asarray(rgb, dtype=float).reshape(-1, 3)
+        if self.Cu == 0:
+            return np.zeros((rgb.shape[0], 0))
+        return self._solve(rgb, encoded, None, clip=False)
+
     def solve_linear_srgb(self, rgb, iterations=12):
         """Concentrations for linear sRGB colours (N, 3) (exact solve, no table)."""
         return self.solve_Lab(XYZ_to_Lab(linear_srgb_to_XYZ(np.asarray(rgb, float))), iterations)
@@ -242,20 +298,27 @@ class Unmixer:
         return self._lut
 
     def unmix(self, rgb, encoded=False, refine=None):
-        """Concentrations for colours (N, 3): table lookup, then solver steps.
+        """Concentrations for colours (N, 3): ``clip(Φ, 0, 1)`` (Eq. U2).
+
+        A table lookup, bounded solver steps, then Newton steps past the box
+        (:func:`extended_newton`) and the clip.
 
         Parameters
         ----------
         rgb : array_like, shape (N, 3)
             Linear sRGB (or encoded sRGB with ``encoded=True``), clipped to [0, 1].
         refine : int or None
-            Gauss–Newton iterations from the table's trilinear estimate (0: table
-            only); None (the default): to convergence (:data:`CONVERGED`), the
-            solution ``age-image --exact`` and the colour tables use.
+            Bounded Gauss–Newton iterations from the table's trilinear estimate (0:
+            the table's estimate only, no extension: a starting guess); None (the
+            default): to convergence (:data:`CONVERGED`), the solution ``age-image
+            --exact`` and the colour tables use.
         """
         rgb = np.asarray(rgb, dtype=float).reshape(-1, 3)
         if self.Cu == 0:
             return np.zeros((rgb.shape[0], 0))
+        return self._solve(rgb, encoded, refine, clip=True)
+
+    def _solve(self, rgb, encoded, refine, clip):
         e = np.clip(rgb if encoded else srgb_encode(np.clip(rgb, 0.0, 1.0)), 0.0, 1.0)
         n = self.lut_size
         x = e * (n - 1)
@@ -272,8 +335,11 @@ class Unmixer:
         if refine is None or refine:
             from ..colour.colorimetry import srgb_decode
 
-            lin = srgb_decode(e)
-            out = self._gauss_newton(out, XYZ_to_Lab(linear_srgb_to_XYZ(lin)), refine)
+            target = XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(e)))
+            out = self._gauss_newton(out, target, refine)
+            out = extended_newton(self.Lab, out, target)
+            if clip:
+                np.clip(out, 0.0, 1.0, out=out)
         return out
 
 
