@@ -22,14 +22,18 @@ Stages (node names start with the stage; the group reads left to right):
     ``t = min(floor s, T - 2)``.
 ``mix``
     the light-mix vertices (slots) and weights of :func:`..core.table.simplex_slots`.
-``cube``
-    the colour's cube coordinates ``u = clip(rgb, 0, 1) ** (1 / gamma) · (N - 1)`` (the
-    factor ``N - 1`` of red and green folded into their atlas coordinates); the blue
-    node ``b = min(floor u_b, N - 2)``.
+``unmix``
+    the colour's cube coordinates ``u = clip(rgb, 0, 1) ** (1 / gamma) · (A - 1)`` (the
+    factor ``A - 1`` of red and green folded into their atlas coordinates); the blue
+    node ``b = min(floor u_b, A - 2)``; the unmixing ``Φ`` from its tiles ``b`` and
+    ``b + 1`` (bilinear over red and green, a Mix over blue); the change table's
+    coordinates ``k = clip(Φ, 0, 1) ** (1 / power)`` and the node ``k3_0 = min(floor
+    k3 (N - 1), N - 2)``: the clip after the interpolation puts the gamut's faces on
+    the change table's own planes.
 ``table``
-    per mix vertex, the four tiles (``b``, ``b + 1``) × (``t``, ``t + 1``), each looked up
-    with Linear interpolation (bilinear over red and green), linear over blue and dose
-    (Mix nodes), weighted over the vertices (two spectra: one more Mix).
+    per mix vertex, the four tiles (``k3_0``, ``k3_0 + 1``) × (``t``, ``t + 1``), each
+    looked up with Linear interpolation (bilinear over k1 and k2), linear over k3 and
+    dose (Mix nodes), weighted over the vertices (two spectra: one more Mix).
     The lookups are Equirectangular Environment Textures, not Image Textures: EEVEE
     mip-maps an Image Texture, and the lookup coordinates jump between tiles at the
     artist's sharp colour edges, so it would read a blurred table there.
@@ -65,7 +69,7 @@ from .years import YEARS_PROP
 from .graph import Graph, Sock
 
 #: Bumped whenever the group's nodes change: an older group is rebuilt (Age).
-GROUP_VERSION = 5
+GROUP_VERSION = 6
 #: Custom property on the group tree holding :data:`GROUP_VERSION`.
 VERSION_KEY = "lightfade_aging_version"
 
@@ -86,6 +90,10 @@ class GroupSpec:
     per_decade: float
     low_dose: float          # lux·h of dose node 1
     history: bool
+    unmix_side: int          # A
+    power: float
+    unmix_y: int             # first texel row of the unmixing's tiles
+    per_row: int             # unmixing tiles per row
 
     @property
     def P(self):
@@ -180,17 +188,43 @@ def _mix(g, spec, rates, total):
     return out
 
 
-def _cube(g, spec, colour):
-    """Encoded colour ``clip(rgb, 0, 1) ** (1 / gamma)`` (red and green: the cube
-    coordinates over ``N - 1``, scaled where they are used) and the blue node and
-    fraction of ``colour``."""
-    g.stage = "cube"
+def _unmix(g, spec, colour):
+    """The change table's coordinates of ``colour``: ``k1``, ``k2`` in [0, 1] (scaled
+    where they are used), the node ``k3_0`` and fraction of ``k3``.
+
+    ``Φ`` is read from the unmixing's tiles ``b`` and ``b + 1`` like the change's
+    (:func:`_table`: Equirectangular lookups of atlas texel coordinates), tile ``b`` at
+    column ``b mod per_row`` and row ``b div per_row`` above the change's tiles.
+    """
+    g.stage = "unmix"
+    W, H = spec.table_size
+    A, PA, pi = spec.unmix_side, float(spec.unmix_side + 2), math.pi
     inv = 1.0 / float(spec.gamma)
     clipped = g.vector("MINIMUM", g.vector("MAXIMUM", colour, (0.0, 0.0, 0.0)), (1.0, 1.0, 1.0))
     r, gg, b = g.separate(g.power(clipped, (inv, inv, inv)))
-    b = b * float(spec.side - 1)
-    b0 = b.floor().min(float(spec.side - 2))
-    return r, gg, b0, b - b0
+    n = float(A - 1)
+    b = b * n
+    b0 = b.floor().min(float(A - 2))
+    phi_r = g.math("MULTIPLY_ADD", r, -2.0 * pi * n / W, pi - 3.0 * pi / W)
+    theta_g = g.math("MULTIPLY_ADD", gg, pi * n / H, pi * (spec.unmix_y + 1.5) / H - 0.5 * pi)
+    reads = []
+    for bi in (b0, b0 + 1.0):
+        if spec.per_row >= A:                    # one row of tiles
+            col, theta = bi, theta_g
+        else:
+            row = (bi * (1.0 / spec.per_row)).floor()
+            col = g.math("MULTIPLY_ADD", row, -float(spec.per_row), bi)
+            theta = g.math("MULTIPLY_ADD", row, pi * PA / H, theta_g)
+        phi = g.math("MULTIPLY_ADD", col, -2.0 * pi * PA / W, phi_r)
+        reads.append(g.environment(spec.table_image,
+                                   g.combine(phi.cos(), phi.sin(), theta.tan()), "Linear"))
+    y = g.lerp(reads[0], reads[1], b - b0)
+    inv_p = 1.0 / float(spec.power)
+    unit = g.vector("MINIMUM", g.vector("MAXIMUM", y, (0.0, 0.0, 0.0)), (1.0, 1.0, 1.0))
+    k1, k2, k3 = g.separate(g.power(unit, (inv_p, inv_p, inv_p)))
+    k3 = k3 * float(spec.side - 1)
+    k3_0 = k3.floor().min(float(spec.side - 2))
+    return k1, k2, k3_0, k3 - k3_0
 
 
 def _table(g, spec, cube, vertices, t, ft):
@@ -284,7 +318,7 @@ def build(tree, spec):
     rates, total = _rates(g, spec, uv)
     t, ft = _dose(g, spec, years, total)
     vertices = _mix(g, spec, rates, total)
-    change = _table(g, spec, _cube(g, spec, colour), vertices, t, ft)
+    change = _table(g, spec, _unmix(g, spec, colour), vertices, t, ft)
     result = _gamut(g, g.combine(*_colour(g, colour, change)))
     g.stage = "switch"
     if not spec.history:

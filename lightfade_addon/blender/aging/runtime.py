@@ -17,7 +17,7 @@ import hashlib
 import numpy as np
 
 from ...core.aging.ager import Light
-from ...core.aging.colourtable import ColourTable
+from ...core.aging.colourtable import ColourTable, atlas_layout
 from ...core.fading.grid import GridSettings
 from ...core.fading.recipes import get_recipe, parse_classes
 from ...core.aging.restore import Prior
@@ -116,11 +116,14 @@ def group_version(copy):
 def group_spec(uv_map, inputs, table_image):
     """The :class:`.group.GroupSpec` of a table image and exposure inputs."""
     info = agingdata.table_info(table_image)
+    layout = atlas_layout(info)
     return GroupSpec(uv_map=uv_map, maps=tuple(inputs), table_image=table_image,
                      table_size=tuple(table_image.size), side=int(info["side"]),
                      T=int(info["T"]), q=int(info["q"]), S=int(info["S"]),
                      gamma=float(info["gamma"]), per_decade=float(info["per_decade"]),
-                     low_dose=float(info["low_dose"]), history=bool(info["history"]))
+                     low_dose=float(info["low_dose"]), history=bool(info["history"]),
+                     unmix_side=int(info["unmix_side"]), power=float(info["power"]),
+                     unmix_y=layout.unmix_y, per_row=layout.per_row)
 
 
 def aging_group(scene, obj, recipe, prior=None, name="LF_Aging", progress=None):

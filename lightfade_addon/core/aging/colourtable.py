@@ -302,15 +302,17 @@ def atlas_layout(table):
     """The :class:`AtlasLayout` of ``table``: each tile holds a plane of nodes (the
     change: (k1, k2) of node k3, dose node t and light-mix slot; the unmixing: (r, g) of
     blue node b) with one texel of padding (edge copies), so a node group finds a tile
-    with one multiply-add per axis."""
-    P, A = table.side + 2, table.unmix_side
-    PA = A + 2
-    width = max(table.side * P, PA)
+    with one multiply-add per axis. ``table`` may be a :meth:`ColourTable.info` dict."""
+    info = table if isinstance(table, dict) else table.info()
+    N, A = int(info["side"]), int(info["unmix_side"])
+    slots, T = int(info["slots"]), int(info["T"])
+    P, PA = N + 2, A + 2
+    width = max(N * P, PA)
     per_row = width // PA
-    unmix_y = table.slots * table.T * P
+    unmix_y = slots * T * P
     height = unmix_y + -(-A // per_row) * PA
     if height > MAX_ATLAS_HEIGHT:
-        raise ValueError(f"a colour table of {table.slots} light-mix slots x {table.T} dose "
+        raise ValueError(f"a colour table of {slots} light-mix slots x {T} dose "
                          f"nodes is {height} texels tall, more than {MAX_ATLAS_HEIGHT}")
     return AtlasLayout(width, height, P, PA, per_row, unmix_y)
 
@@ -340,14 +342,12 @@ def table_from_atlas(pixels, info):
     :meth:`ColourTable.info`); values as the image stores them."""
     N, T, slots = int(info["side"]), int(info["T"]), int(info["slots"])
     A = int(info["unmix_side"])
-    P, PA = N + 2, A + 2
-    rows = slots * T * P
-    img = pixels[:rows, :N * P, :3].reshape(slots, T, P, N, P, 3)[:, :, 1:-1, :, 1:-1]
+    L = atlas_layout(info)
+    img = pixels[:L.unmix_y, :N * L.P, :3].reshape(slots, T, L.P, N, L.P, 3)[:, :, 1:-1, :, 1:-1]
     values = np.ascontiguousarray(img.transpose(0, 1, 3, 2, 4, 5)).astype(np.float16)
-    per_row = max(N * P, PA) // PA
-    unmix = np.stack([pixels[rows + (b // per_row) * PA + 1:rows + (b // per_row) * PA + 1 + A,
-                             (b % per_row) * PA + 1:(b % per_row) * PA + 1 + A, :3]
-                      for b in range(A)]).astype(np.float16)
+    y0 = [L.unmix_y + (b // L.per_row) * L.PA + 1 for b in range(A)]
+    x0 = [(b % L.per_row) * L.PA + 1 for b in range(A)]
+    unmix = np.stack([pixels[y:y + A, x:x + A, :3] for x, y in zip(x0, y0)]).astype(np.float16)
     return ColourTable(values, dose_nodes(float(info["low_dose"]), float(info["per_decade"]), T),
                        float(info["gamma"]), float(info["per_decade"]), float(info["low_dose"]),
                        int(info["q"]), int(info["S"]), bool(info["history"]), str(info["key"]),
