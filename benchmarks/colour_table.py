@@ -9,8 +9,9 @@ Each photograph (found on this machine: matplotlib's Grace Hopper, colour-scienc
 TM-30 background, Blender's bundled HDRIs tone-mapped to 8 bits, scikit-image's
 astronaut, coffee and chelsea where scikit-image is installed or its ``skimage/data``
 folder is given with ``--photos``, and any other pictures given so) is a Printed Paper
-poster on a sunlit plane: about 1 Mlx·h a year (3000 lux, 8.9 h a day, daylight), the
-same dose everywhere. It is aged by the colour table (:mod:`lightfade_addon.core.
+poster on a sunlit plane, the same dose everywhere: about 1 Mlx·h a year (300 lux,
+8.9 h a day, daylight: issue 27's poster) and ten times that (3000 lux, a poster in
+direct sun most of the day). It is aged by the colour table (:mod:`lightfade_addon.core.
 colourtable`, what the node group and ``api.apply_aging`` evaluate) and by
 :func:`age_image_exact` at 5 and 25 years; printed: ΔE00 p99 / max per photo and the
 table's build time and size beside them.
@@ -39,7 +40,9 @@ from lightfade_addon.core.fading.grid import GridSettings
 from lightfade_addon.core.fading.lights import Light
 from lightfade_addon.core.fading.recipes import get_recipe
 
-LIGHT = Light("daylight", False, 3000.0, 8.9, 365.0)          # 0.97 Mlx·h a year
+LIGHT = Light("daylight", False, 300.0, 8.9, 365.0)           # 0.97 Mlx·h a year
+#: The posters' lights: issue 27's, and ten times its dose.
+LIGHTS = (LIGHT, Light("daylight", False, 3000.0, 8.9, 365.0))
 YEARS = (5.0, 25.0)
 
 
@@ -108,27 +111,28 @@ def main(argv=None):
                              grid=GridSettings(points=a.points), substeps=a.substeps,
                              unmix_side=a.unmix_side, power=a.power)
     t0 = time.perf_counter()
-    table = build_table(recipe, [(LIGHT.spectrum, LIGHT.uv_filter)], settings)
+    table = build_table(recipe, [(LIGHT.spectrum, LIGHT.uv_filter)], settings)   # any dose
     built = time.perf_counter() - t0
     print(f"table {a.recipe}: side {table.side} (unmixing {table.unmix_side}), gamma "
           f"{table.gamma:g}, power {table.power:g}, {table.T} dose nodes "
           f"(to {table.max_dose:.3g} lux·h), {table.values.nbytes / 1e6:.2f} MB half; "
           f"built in {built:.1f} s")
     worst = 0.0, 0.0
-    print(f"{'photo':18s} {'size':>9s} {'colours':>8s}  " +
-          "  ".join(f"{y:g} y p99 / max" for y in YEARS))
+    print(f"{'photo':18s} {'size':>9s} {'colours':>8s}  " + "  ".join(
+        f"{light.annual_dose / 1e6:.2g} Mlx·h/yr, {y:g} y" for light in LIGHTS for y in YEARS))
     for name, path in photos(a.photos).items():
         enc = load(path, a.size)
         lin = srgb_decode(enc).reshape(-1, 3).astype(np.float32)
-        rate = np.full((1, lin.shape[0]), LIGHT.annual_dose, dtype=np.float32)
-        exact = age_image_exact(enc, list(YEARS), recipe, LIGHT, encoding="srgb")
         cells = []
-        for y, ref in zip(YEARS, exact):
-            ours = srgb_encode(evaluate(table, lin, rate, y))
-            d = dE(ours, ref)
-            p99, mx = float(np.percentile(d, 99)), float(d.max())
-            worst = max(worst[0], p99), max(worst[1], mx)
-            cells.append(f"{p99:6.2f} / {mx:5.2f}")
+        for light in LIGHTS:
+            rate = np.full((1, lin.shape[0]), light.annual_dose, dtype=np.float32)
+            exact = age_image_exact(enc, list(YEARS), recipe, light, encoding="srgb")
+            for y, ref in zip(YEARS, exact):
+                ours = srgb_encode(evaluate(table, lin, rate, y))
+                d = dE(ours, ref)
+                p99, mx = float(np.percentile(d, 99)), float(d.max())
+                worst = max(worst[0], p99), max(worst[1], mx)
+                cells.append(f"{p99:6.2f} / {mx:5.2f}")
         colours = len(np.unique((enc * 255).astype(np.uint8).reshape(-1, 3), axis=0))
         print(f"{name:18s} {enc.shape[1]:4d}x{enc.shape[0]:<4d} {colours:8d}  " + "   ".join(cells))
     print(f"worst p99 {worst[0]:.2f} (target 0.6), worst max {worst[1]:.2f} (target 1.5)")
