@@ -83,3 +83,17 @@ def test_across_the_cube_the_table_is_within_the_bound_of_the_exact_path(poster)
     for years, ref in zip((5, 25), exact):
         d = delta_E_2000(_lab(evaluate(table, rgb, rates, years)), _lab(srgb_decode(ref[0])))
         assert np.percentile(d, 99) < 0.6 and d.max() < 1.5, (years, np.percentile(d, 99), d.max())
+
+
+def test_the_unmixing_table_is_the_extended_solution_at_its_nodes():
+    """``Φ`` solved coarse to fine (Newton steps from the coarser cube's interpolation)
+    is the full solve at every node of the cube, outside the gamut too."""
+    from lightfade_addon.core.aging.colourtable import cube_colours
+
+    recipe = get_recipe("dyed-fabric")
+    table = build_table(recipe, [(LIGHT.spectrum, LIGHT.uv_filter)],
+                        TableSettings(side=5, unmix_side=17, per_decade=2))
+    full = get_unmixer(recipe).extended(cube_colours(17, table.gamma))
+    assert np.any(full < 0) and np.any(full > 1)
+    np.testing.assert_allclose(table.unmix.reshape(-1, 3).astype(float),
+                               np.clip(full, -1, 2), atol=2e-3)

@@ -15,6 +15,7 @@ depend on.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import io
 import json
@@ -73,8 +74,9 @@ class TableSettings:
     ceiling : float
         Largest dose simulated, lux·h; the axis is cut where the recipe stops changing.
     grid : GridSettings
-        With a history: the concentration grid the restored colours' change is
-        interpolated on (``points`` and ``power``).
+        The concentration grid simulated (the paper's grid; ``points`` and ``power``):
+        the change at the table's nodes (with a history: at the restored colours) is
+        interpolated on it.
     substeps : int
         Dose points per node interval simulated and fitted (:mod:`.tablefit`); 1: the
         nodes themselves.
@@ -87,7 +89,7 @@ class TableSettings:
     per_decade: int = 8
     low_dose: float = 1e4
     ceiling: float = 1e14
-    grid: GridSettings = GridSettings(points=8)
+    grid: GridSettings = GridSettings(points=9)
     substeps: int = 2
 
 def _dose_axis(settings):
@@ -153,43 +155,98 @@ def _saturated_length(values):
     return int(min(values.shape[1], (idx[-1] + 2) if idx.size else 2))
 
 
-def _solve(unmixer, encoded, extended=False):
-    """Converged concentrations (``extended``: ``Φ``, unbounded) of encoded colours
-    (n, 3), in blocks on threads (the rows are independent: the result does not depend
-    on the blocks)."""
+def _solve(unmixer, encoded, extended=False, start=None):
+    """Converged concentrations (``extended``: ``Φ``, unbounded, from ``start`` where
+    given) of encoded colours (n, 3), in blocks on threads (the rows are independent:
+    the result does not depend on the blocks)."""
     c = np.zeros((encoded.shape[0], unmixer.Cu))
     if unmixer.Cu == 0:
         return c
     size = -(-encoded.shape[0] // _THREADS)
-    solve = unmixer.extended if extended else unmixer.unmix
 
     def block(s0):
-        c[s0:s0 + size] = solve(encoded[s0:s0 + size], encoded=True)
+        rows = slice(s0, s0 + size)
+        if not extended:
+            c[rows] = unmixer.unmix(encoded[rows], encoded=True)
+        else:
+            c[rows] = unmixer.extended(encoded[rows], encoded=True,
+                                       start=None if start is None else start[rows])
 
     in_blocks(block, encoded.shape[0], size, _THREADS)
     return c
 
 
+def _coarse_side(A):
+    """The coarser cube ``Φ`` is first solved on: every other node, down to 9 or so."""
+    side = A
+    while side > 9 and (side - 1) % 2 == 0:
+        side = (side - 1) // 2 + 1
+    return side
+
+
 def _unmixing(unmixer, settings, say):
     """``Φ`` at the colour cube's nodes, (A, A, A, 3) axes b, g, r, float16; unused
-    colourants 0."""
-    A = settings.unmix_side
-    say(0.8, f"unmixing {A ** 3} colours")
-    phi = np.zeros((A ** 3, 3))
-    phi[:, :unmixer.Cu] = _solve(unmixer, srgb_encode(cube_colours(A, settings.gamma)), True)
-    phi = np.clip(phi, -UNMIX_MARGIN, 1.0 + UNMIX_MARGIN)
-    return phi.reshape(A, A, A, 3).astype(np.float16)
+    colourants 0. It depends on the recipe's optics only: the tables of one recipe
+    under several light sets share it (kept per process)."""
+    say(0.8, f"unmixing {settings.unmix_side ** 3} colours")
+    return _unmixing_cached(unmixer, settings.unmix_side, settings.gamma).copy()
+
+
+@functools.lru_cache(maxsize=8)
+def _unmixing_cached(unmixer, A, gamma):
+    """:func:`_unmixing` of an :class:`..fading.unmix.Unmixer` (one per optics).
+
+    Solved in full (bounded solve, then Newton steps on Eq. U1) on a coarse cube, then on
+    each finer cube (twice the nodes per axis) by Newton steps from the coarser one's
+    trilinear interpolation: ``Φ`` is smooth, so a few steps converge (the same
+    solution: Eq. U1 has one per colour), at a fraction of the full solves' cost.
+    """
+    if unmixer.Cu == 0:
+        return np.zeros((A, A, A, 3), dtype=np.float16)
+    side = _coarse_side(A)
+    phi = _solve(unmixer, srgb_encode(cube_colours(side, gamma)), True)
+    while side < A:
+        fine = 2 * side - 1
+        start = _refine(phi.reshape(side, side, side, -1))
+        phi = _solve(unmixer, srgb_encode(cube_colours(fine, gamma)), True, start)
+        side = fine
+    out = np.zeros((A ** 3, 3))
+    out[:, :unmixer.Cu] = np.clip(phi, -UNMIX_MARGIN, 1.0 + UNMIX_MARGIN)
+    return out.reshape(A, A, A, 3).astype(np.float16)
+
+
+def _refine(values):
+    """Trilinear interpolation of a cube's node values (n, n, n, K) at the nodes of the
+    cube with twice the nodes per axis (2n - 1), flattened in the same order."""
+    for axis in range(3):
+        mid = 0.5 * (np.take(values, range(values.shape[axis] - 1), axis)
+                     + np.take(values, range(1, values.shape[axis]), axis))
+        shape = list(values.shape)
+        shape[axis] = 2 * shape[axis] - 1
+        out = np.empty(shape)
+        index = [slice(None)] * 4
+        index[axis] = slice(0, None, 2)
+        out[tuple(index)] = values
+        index[axis] = slice(1, None, 2)
+        out[tuple(index)] = mid
+        values = out
+    return values.reshape(-1, values.shape[-1])
 
 
 def _over_concentrations(recipe, spectra, doses, settings, say):
     """The change (M, T, N, N, N, 3), axes mix, dose, k3, k2, k1, at the concentration
-    nodes ``c = (k / (N - 1)) ** power``: the simulation's own nodes."""
+    nodes ``c = (k / (N - 1)) ** power``: the paper's grid (:attr:`TableSettings.grid`,
+    coarser) simulated and interpolated there (:meth:`.grid.FadeGrid.curves`: a cubic
+    spline of the aged colour, the unexposed colour exact)."""
     N = settings.side
-    grid = _simulate(recipe, spectra, doses, settings,
-                     GridSettings(points=N, power=settings.power), say)
-    change = grid.change                                   # (M, T, c1, ..., c_Cu, 3)
-    Cu = change.ndim - 3
-    change = change.reshape(change.shape[:2 + Cu] + (1,) * (3 - Cu) + (3,))
+    grid = _simulate(recipe, spectra, doses, settings, settings.grid, say)
+    unmixer = get_unmixer(recipe)
+    Cu = unmixer.Cu
+    k = (np.arange(N) / (N - 1.0)) ** settings.power
+    c = np.stack(np.meshgrid(*[k] * Cu, indexing="ij"), -1).reshape(-1, Cu)
+    initial = np.log(np.maximum(unmixer.XYZ(c), XYZ_FLOOR)) if grid.initial is not None else None
+    curves = grid.curves(c, initial)                       # (N^Cu, M, T, 3), c1 slowest
+    change = np.moveaxis(curves, 0, 2).reshape(curves.shape[1:3] + (N,) * Cu + (1,) * (3 - Cu) + (3,))
     change = np.broadcast_to(change, change.shape[:2] + (N, N, N, 3))
     return np.ascontiguousarray(change.transpose(0, 1, 4, 3, 2, 5))
 
