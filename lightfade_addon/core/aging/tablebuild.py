@@ -1,12 +1,13 @@
 """Building a colour table (:mod:`.colourtable`): one simulation per concentration node.
 
 The recipe's colourants are simulated at the paper's grid of concentrations (Section 5)
-— the change table's own nodes — for each light mix of the set's spectra, recording the
-table's dose axis (absolute lux·h, :func:`.colourtable.dose_position`) up to
-:attr:`TableSettings.ceiling` with :attr:`TableSettings.substeps` points per node
-interval, fitted to the nodes (:mod:`.tablefit`), and cut where nothing changes any
-more. The unmixing table is ``Φ`` (:mod:`..fading.unmix`, Eq. U2, to convergence as
-``age-image --exact``) at the colour cube's nodes. A table with a history is built over
+for each light mix of the set's spectra, recording the table's dose axis (absolute
+lux·h, :func:`.colourtable.dose_position`) up to :attr:`TableSettings.ceiling` with
+:attr:`TableSettings.substeps` points per node interval, fitted to the nodes
+(:mod:`.tablefit`); the change is interpolated from the grid at the table's own, finer
+concentration nodes (:meth:`.grid.FadeGrid.curves`) and the dose axis cut where nothing
+changes any more. The unmixing table is ``Φ`` (:mod:`..fading.unmix`, Eq. U2, to
+convergence as ``age-image --exact``) at the colour cube's nodes. A table with a history is built over
 the seen colours' cube instead: each node restored to new (:mod:`.restore`), unmixed
 and its change interpolated on the paper's grid (:meth:`.grid.FadeGrid.curves`).
 Tables are kept on disk (:func:`load_or_build`) like grids, keyed by everything they
@@ -22,7 +23,7 @@ import json
 import math
 import os
 import tempfile
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
