@@ -448,3 +448,24 @@ def test_a_rebake_of_the_same_lights_reaches_the_group_without_age(carpet):
     copy = the_copy(carpet["material"])
     assert copy_status(scene, copy) == "aged"
     assert np.abs(aged(carpet["material"]) - before).max() > 0.05
+
+
+
+def test_the_table_image_holds_the_table_exactly(blender):
+    """The packed table (half floats, PXR24) reads back as the table built: every change
+    and unmixing value, bit for bit (a lossy codec would not)."""
+    from lightfade_addon.blender.aging import data
+    from lightfade_addon.blender.pixels import read_rgba
+    from lightfade_addon.core.aging.colourtable import atlas_pixels, table_from_atlas
+    from lightfade_addon.core.aging.tablebuild import TableSettings, build_table
+    from lightfade_addon.core.fading.grid import GridSettings
+    from lightfade_addon.core.fading.recipes import get_recipe
+
+    table = build_table(get_recipe("dyed-fabric"), [("daylight", False), ("incandescent", False)],
+                        TableSettings(side=5, unmix_side=9, per_decade=2,
+                                      grid=GridSettings(points=4)))
+    image = data._half_exr("LF_Table_test", atlas_pixels(table))
+    back = table_from_atlas(read_rgba(image), table.info())
+    assert image.packed_file is not None
+    np.testing.assert_array_equal(back.values, table.values)
+    np.testing.assert_array_equal(back.unmix, table.unmix)

@@ -90,11 +90,13 @@ def ensure_table(recipe, keys, prior=None, progress=None, restore_kw=None):
 
 
 def _half_exr(name, rgba):
-    """A packed image holding ``rgba`` (H, W, 4) as a half-float, ZIP-compressed OpenEXR.
+    """A packed image holding ``rgba`` (H, W, 4) as a half-float, PXR24-compressed OpenEXR.
 
     Blender packs a generated float image as full-float EXR (16 bytes a texel); the
     table's values are half precision already, so the file is written as half floats
-    (8 bytes a texel before compression, lossless here) and that file is packed.
+    (8 bytes a texel before compression) and that file is packed. PXR24 is lossless on
+    half floats and packs a two-spectrum table 6 % smaller than ZIP (2.55 MB against
+    2.70 MB; PIZ 3.76, ZIPS 3.46, RLE 4.93).
     """
     H, W = rgba.shape[:2]
     tmp = bpy.data.images.new(name + "_tmp", W, H, alpha=True, float_buffer=True)
@@ -108,7 +110,7 @@ def _half_exr(name, rgba):
                                                    "color_mode")}
         try:
             settings.file_format, settings.color_mode = "OPEN_EXR", "RGBA"
-            settings.color_depth, settings.exr_codec = "16", "ZIP"
+            settings.color_depth, settings.exr_codec = "16", "PXR24"
             tmp.save_render(path, scene=bpy.context.scene)
         finally:
             for k, v in saved.items():
