@@ -123,7 +123,8 @@ class TestNodeGroupAgainstNumpy:
         _bake_and_age()
         copy = the_copy(textured["material"])
         (group,) = [n.node_tree for n in copy.node_tree.nodes if n.type == "GROUP"]
-        table = [n for n in group.nodes if getattr(n, "image", None) is not None
+        (evaluation,) = [n.node_tree for n in group.nodes if n.type == "GROUP"]
+        table = [n for n in evaluation.nodes if getattr(n, "image", None) is not None
                  and n.image.name.startswith("LF_Table_")]
         # 1 spectrum: 2 reads of the unmixing, 4 of the change
         assert len(table) == 6 and all(n.type == "TEX_ENVIRONMENT" for n in table)
@@ -279,7 +280,7 @@ def test_apply_then_live_aging_round_trip(textured):
     assert bpy.ops.lightfade.reset() == {"FINISHED"}
     assert [i.name for i in bpy.data.images if i.name.startswith("LF_")
             and not i.name.startswith("LF_Exposure_")] == []       # the bake stays
-    assert not any(g.name.startswith("LF_Aging_") for g in bpy.data.node_groups)
+    assert not any(g.name.startswith(("LF_Aging_", "LF_Eval_")) for g in bpy.data.node_groups)
     original = textured["material"].node_tree.nodes["Principled BSDF"]
     assert original.inputs["Base Color"].links[0].from_node.type == "TEX_IMAGE"
 

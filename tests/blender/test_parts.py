@@ -373,9 +373,11 @@ def test_info_apply_and_a_rebake_with_parts(sofa):
     assert api.material_plan(scene)[0]["status"] == "aged"
     after = aged_pixels(scene, copy, 20.0)
     assert not np.allclose(after[RIGHT], before[RIGHT], atol=1e-3)
-    groups = sorted(g.name for g in bpy.data.node_groups)
+    groups = sorted(g.name for g in bpy.data.node_groups if not g.name.startswith("LF_Eval_"))
     assert groups == ["LF_Aging_LF_Aged_Carpet.Floor~0", "LF_Aging_LF_Aged_Carpet.Floor~1",
                       "LF_Parts_LF_Aged_Carpet.Floor"]
+    # one evaluation group per table (recipe), shared by the lanes that read it
+    assert len([g for g in bpy.data.node_groups if g.name.startswith("LF_Eval_")]) == 2
     tables = [lane.table_image for lane in copy.lightfade.lanes]    # one per recipe, shared
     assert len(set(tables)) == 2 and all(t.name.startswith("LF_Table_") for t in tables)
 

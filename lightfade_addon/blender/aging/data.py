@@ -163,7 +163,11 @@ def used_tables():
 
 
 def purge_tables():
-    """Remove table images no aged copy reads, and images of older versions."""
+    """Remove table images no aged copy reads, images of older versions, and the
+    evaluation groups no aging group uses."""
+    from .group import purge_eval_groups
+
+    purge_eval_groups()
     used = used_tables()
     for image in list(bpy.data.images):
         if image.name.startswith(TABLE_PREFIX) and image not in used:

@@ -2,20 +2,28 @@
 
 One group per aged copy, inserted between the artist's own Base Color graph and the
 BSDF's colour socket (:func:`..copies.insert_group`). It reads the object's exposure
-maps (lux per light group), the shared colour table of the copy's recipe and light set
-(:func:`..core.colourtable.atlas_pixels`) and the scene's years through an Attribute
-node (View Layer: the scene's custom property ``lightfade_years``), so Cycles (CPU and
-GPU), EEVEE and the Material Preview evaluate the aging themselves: no Python per
-pixel or per years change, and the .blend renders its aging where LightFade is not
-installed.
+maps (lux per light group) and hands the annual doses to the **evaluation group** of
+the copy's colour table (one per table, ``LF_Eval_*``, shared by every copy aged with
+the same recipe and light set: the file keeps its nodes once, and EEVEE compiles one
+shader for them), which reads the table (:func:`..core.colourtable.atlas_pixels`) and
+the scene's years through an Attribute node (View Layer: the scene's custom property
+``lightfade_years``), so Cycles (CPU and GPU), EEVEE and the Material Preview evaluate
+the aging themselves: no Python per pixel or per years change, and the .blend renders
+its aging where LightFade is not installed.
 
-Stages (node names start with the stage; the group reads left to right):
+Stages (node names start with the stage; the groups read left to right). The copy's:
 
-``years``, ``uv``
-    the scene's years; the exposure UV map.
+``uv``
+    the exposure UV map.
 ``rates``
     each exposure map (Linear) times its hours a year, summed per spectrum: lux·h a year
-    (in units of the dose axis's ``low`` dose, which the mix's ratios do not see).
+    (in units of the dose axis's ``low`` dose, which the mix's ratios do not see): the
+    evaluation group's ``Rate`` inputs.
+
+The evaluation group's:
+
+``years``
+    the scene's years.
 ``dose``
     the dose ``d = years · Σ rates`` and its fractional node
     ``s = min(d / low, 1) + per_decade · log10(max(d, low) / low)`` (at most ``T - 1``),
@@ -69,9 +77,12 @@ from .years import YEARS_PROP
 from .graph import Graph, Sock
 
 #: Bumped whenever the group's nodes change: an older group is rebuilt (Age).
-GROUP_VERSION = 6
+GROUP_VERSION = 7
 #: Custom property on the group tree holding :data:`GROUP_VERSION`.
 VERSION_KEY = "lightfade_aging_version"
+#: Name prefix of the shared evaluation groups, and the property naming their table.
+EVAL_PREFIX = "LF_Eval_"
+EVAL_KEY = "lightfade_eval"
 
 
 @dataclass(frozen=True)
@@ -107,8 +118,8 @@ def _interface(tree):
 
 
 def _rates(g, spec, uv):
-    """Annual dose per spectrum at the shading point, and their total, in units of the
-    dose axis's node 1 (``low_dose`` lux·h) a year: ``lux · hours / low``."""
+    """Annual dose per spectrum at the shading point in units of the dose axis's node 1
+    (``low_dose`` lux·h) a year: ``lux · hours / low``."""
     g.stage = "rates"
     rates = [None] * spec.S
     for m in spec.maps:
@@ -116,11 +127,14 @@ def _rates(g, spec, uv):
         lux = g.separate(colour)[0].max(0.0) * (float(m.hours) / float(spec.low_dose))
         k = m.spectrum
         rates[k] = lux if rates[k] is None else rates[k] + lux
-    rates = [r if r is not None else g.value(0.0) for r in rates]
+    return [r if r is not None else 0.0 for r in rates]
+
+
+def _total(rates):
     total = rates[0]
     for r in rates[1:]:
         total = total + r
-    return rates, total
+    return total
 
 
 def _dose(g, spec, years, total):
@@ -303,19 +317,23 @@ def _gamut(g, c):
     return g.vector("MINIMUM", g.vector("MAXIMUM", out, (0.0, 0.0, 0.0)), (1.0, 1.0, 1.0))
 
 
-def build(tree, spec):
-    """Fill the empty group ``tree`` with the aging of ``spec``."""
-    _interface(tree)
+def build_eval(tree, spec):
+    """Fill the empty evaluation group ``tree``: Color and one Rate per spectrum in,
+    the aged Color out (every stage from ``years`` on)."""
+    tree.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
+    for k in range(spec.S):
+        tree.interface.new_socket(f"Rate {k}", in_out="INPUT", socket_type="NodeSocketFloat")
+    tree.interface.new_socket("Color", in_out="OUTPUT", socket_type="NodeSocketColor")
     g = Graph(tree)
     g.stage = "io"
     gin = g.node("NodeGroupInput", depth=0)
     colour = Sock(g, gin.outputs[0], 0)
+    rates = [Sock(g, gin.outputs[1 + k], 0) for k in range(spec.S)]
     g.stage = "years"
     years = g.out(g.node("ShaderNodeAttribute", attribute_type="VIEW_LAYER",
                          attribute_name=YEARS_PROP, depth=0), "Fac")
-    g.stage = "uv"
-    uv = g.out(g.node("ShaderNodeUVMap", uv_map=spec.uv_map, depth=0), "UV")
-    rates, total = _rates(g, spec, uv)
+    g.stage = "rates"
+    total = _total(rates)
     t, ft = _dose(g, spec, years, total)
     vertices = _mix(g, spec, rates, total)
     change = _table(g, spec, _unmix(g, spec, colour), vertices, t, ft)
@@ -325,6 +343,49 @@ def build(tree, spec):
         result = g.lerp(colour, result, years.gt(0.0))
     g.stage = "io"
     gout = g.node("NodeGroupOutput", (result,))
+    gout.is_active_output = True
+    g.prune()
+    tree[VERSION_KEY] = GROUP_VERSION
+    tree[EVAL_KEY] = _eval_key(spec)
+    return tree
+
+
+def _eval_key(spec):
+    return f"{spec.table_image.name}|{GROUP_VERSION}"
+
+
+def eval_group(spec):
+    """The evaluation group of ``spec``'s table: found in the file, else built."""
+    key = _eval_key(spec)
+    for tree in bpy.data.node_groups:
+        if tree.name.startswith(EVAL_PREFIX) and tree.get(EVAL_KEY) == key:
+            return tree
+    name = EVAL_PREFIX + spec.table_image.name.removeprefix("LF_Table_")
+    return build_eval(bpy.data.node_groups.new(name, "ShaderNodeTree"), spec)
+
+
+def purge_eval_groups():
+    """Remove the evaluation groups no aging group uses any more."""
+    for tree in list(bpy.data.node_groups):
+        if tree.name.startswith(EVAL_PREFIX) and tree.users == 0:
+            bpy.data.node_groups.remove(tree)
+
+
+def build(tree, spec):
+    """Fill the empty group ``tree`` with the aging of ``spec``: the exposure maps'
+    annual doses into the table's evaluation group (:func:`eval_group`)."""
+    _interface(tree)
+    g = Graph(tree)
+    g.stage = "io"
+    gin = g.node("NodeGroupInput", depth=0)
+    colour = Sock(g, gin.outputs[0], 0)
+    g.stage = "uv"
+    uv = g.out(g.node("ShaderNodeUVMap", uv_map=spec.uv_map, depth=0), "UV")
+    rates = _rates(g, spec, uv)
+    g.stage = "eval"
+    node = g.node("ShaderNodeGroup", [colour, *rates], node_tree=eval_group(spec))
+    g.stage = "io"
+    gout = g.node("NodeGroupOutput", (g.out(node),))
     gout.is_active_output = True
     g.prune()
     tree[VERSION_KEY] = GROUP_VERSION
