@@ -39,11 +39,12 @@ class TestUnmixer:
 
     def test_table_alone_interpolates_between_its_nodes(self, unmixer):
         """Without refinement a colour gets the trilinear blend of the table's eight nodes
-        around it: on a node exactly that node, between nodes close to the solution."""
+        around it (of ``Φ``, clipped): on a node exactly that node, between nodes close
+        to the solution."""
         n = unmixer.lut_size
         nodes = np.array([[3, 7, 11], [0, 16, 5], [15, 1, 9]])
         np.testing.assert_allclose(unmixer.unmix(nodes / (n - 1), encoded=True, refine=0),
-                                   unmixer.lut[tuple(nodes.T)], atol=1e-12)
+                                   np.clip(unmixer.lut[tuple(nodes.T)], 0, 1), atol=1e-12)
         c = np.random.default_rng(2).uniform(0, 1, (300, 3))
         rgb = XYZ_to_linear_srgb(unmixer.XYZ(c))
         inside = np.all((rgb >= 0) & (rgb <= 1), axis=1)
@@ -67,13 +68,12 @@ class TestUnmixer:
 
     def test_the_default_solve_is_converged(self, unmixer):
         """``refine=None`` (what ``--exact`` and the colour tables use) is the solution a
-        far longer solve finds, inside the gamut and out, to 1e-3 in concentration; so
-        are two bounded steps, since the extension's Newton steps converge from them;
-        the table's estimate alone (``refine=0``) is not."""
+        far longer solve finds, inside the gamut and out, to 1e-3 in concentration; a
+        few steps from the table of ``Φ`` come near it, the table alone does not."""
         enc = np.random.default_rng(4).uniform(0, 1, (400, 3))
         long = unmixer.unmix(enc, encoded=True, refine=400)
         assert np.abs(unmixer.unmix(enc, encoded=True) - long).max() < 1e-3
-        assert np.abs(unmixer.unmix(enc, encoded=True, refine=2) - long).max() < 1e-3
+        assert np.abs(unmixer.unmix(enc, encoded=True, refine=2) - long).max() < 5e-3
         assert np.abs(unmixer.unmix(enc, encoded=True, refine=0) - long).max() > 2e-3
 
     def test_out_of_the_gamut_it_is_the_clip_of_the_extended_solution(self, unmixer):

@@ -297,31 +297,37 @@ class Unmixer:
 
     @property
     def lut(self):
-        """The (n, n, n, Cu) table over encoded sRGB, built on first use."""
+        """The (n, n, n, Cu) table of ``Φ`` (Eq. U2, unbounded) over encoded sRGB, built
+        on first use: ``Φ`` is smooth, so its trilinear interpolation is a close start
+        inside the gamut and out."""
         if self._lut is None:
             n = self.lut_size
             axis = np.linspace(0.0, 1.0, n)
             enc = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
             from ..colour.colorimetry import srgb_decode
 
-            self._lut = self.solve_linear_srgb(srgb_decode(enc)).reshape(n, n, n, self.Cu)
+            lin = srgb_decode(enc)
+            phi = extended_newton(self.Lab, self.solve_linear_srgb(lin),
+                                  XYZ_to_Lab(linear_srgb_to_XYZ(lin)))
+            self._lut = phi.reshape(n, n, n, self.Cu)
         return self._lut
 
     def unmix(self, rgb, encoded=False, refine=None):
         """Concentrations for colours (N, 3): ``clip(Φ, 0, 1)`` (Eq. U2).
 
-        A table lookup, bounded solver steps, then Newton steps past the box
-        (:func:`extended_newton`) and the clip.
+        A table lookup, then solver steps and the clip.
 
         Parameters
         ----------
         rgb : array_like, shape (N, 3)
             Linear sRGB (or encoded sRGB with ``encoded=True``), clipped to [0, 1].
         refine : int or None
-            Bounded Gauss–Newton iterations from the table's trilinear estimate (0:
-            the table's estimate only, no extension: a starting guess); None (the
-            default): to convergence (:data:`CONVERGED`), the solution ``age-image
-            --exact`` and the colour tables use.
+            None (the default): to convergence, the solution ``age-image --exact`` and
+            the colour tables use (bounded Gauss–Newton steps, at most
+            :data:`CONVERGED`, then Newton steps past the box, :func:`extended_newton`);
+            an int: that many Newton steps of Eq. U1 from the table's trilinear
+            estimate, a cheaper approximation (0: the estimate itself, a starting
+            guess).
         """
         rgb = np.asarray(rgb, dtype=float).reshape(-1, 3)
         if self.Cu == 0:
@@ -341,15 +347,17 @@ class Unmixer:
             for k, b in enumerate(bits):
                 w = w * (f[:, k] if b else 1.0 - f[:, k])
             out += w[:, None] * lut[i[:, 0] + bits[0], i[:, 1] + bits[1], i[:, 2] + bits[2]]
-        np.clip(out, 0.0, 1.0, out=out)
         if refine is None or refine:
             from ..colour.colorimetry import srgb_decode
 
             target = XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(e)))
-            out = self._gauss_newton(out, target, refine)
-            out = extended_newton(self.Lab, out, target)
-            if clip:
-                np.clip(out, 0.0, 1.0, out=out)
+            if refine is None:                  # converged: bounded, then past the box
+                bounded = self._gauss_newton(np.clip(out, 0.0, 1.0), target, None)
+                out = extended_newton(self.Lab, bounded, target)
+            else:                               # ``refine`` Newton steps of Eq. U1
+                out = extended_newton(self.Lab, out, target, steps=refine)
+        if clip:
+            np.clip(out, 0.0, 1.0, out=out)
         return out
 
 
