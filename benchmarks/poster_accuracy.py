@@ -32,13 +32,6 @@ YEARS = (5.0, 25.0)
 SUN = 0.58
 
 
-def pixels(image):
-    w, h = image.size
-    a = np.empty(w * h * 4, dtype=np.float32)
-    image.pixels.foreach_get(a)
-    return a.reshape(h, w, 4)
-
-
 def poster(path, size):
     """A fresh file: the plane, its material (the photograph, scaled to ``size``), a sun."""
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -79,14 +72,15 @@ def main(argv=None):
     a = p.parse_args(argv)
     from lightfade_addon import api
     from lightfade_addon.blender.exposure import exposure_images
+    from lightfade_addon.blender.pixels import read_linear, read_rgba, resample
     from lightfade_addon.core.colour.colorimetry import (XYZ_to_Lab, delta_E_2000,
                                                          linear_srgb_to_XYZ, srgb_decode)
     from lightfade_addon.core.fading.exact import age_image_exact
     from lightfade_addon.core.fading.lights import Light
     from lightfade_addon.core.fading.recipes import get_recipe
 
-    def lab(encoded):
-        return XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(np.clip(encoded, 0, 1).reshape(-1, 3))))
+    def lab(linear):
+        return XYZ_to_Lab(linear_srgb_to_XYZ(np.clip(linear, 0, 1).reshape(-1, 3)))
 
     print(f"{'photo':18s} {'size':>9s} {'Mlx·h/yr':>9s} {'Age s':>6s}  " +
           "  ".join(f"{y:g} y p99 / max" for y in YEARS))
@@ -100,13 +94,10 @@ def main(argv=None):
         assert bpy.ops.lightfade.age(years=YEARS[0]) == {"FINISHED"}
         age_s = time.perf_counter() - t0
         (map_image, light), = exposure_images(scene, plane)
-        lux = pixels(map_image)[..., 0]
+        lux = read_rgba(map_image)[..., 0]
         per_year = float(lux.mean()) * light.hours_per_day * light.days_per_year
-        src = pixels(image)[..., :3]                   # encoded sRGB, as the file holds it
-        H, W = src.shape[:2]
-        iy = (np.arange(H) + 0.5) / H * lux.shape[0]
-        ix = (np.arange(W) + 0.5) / W * lux.shape[1]
-        exposure = lux[iy.astype(int)][:, ix.astype(int)] / float(lux.mean())
+        src = read_rgba(image)[..., :3]                # encoded sRGB, as the file holds it
+        exposure = resample(lux, src.shape[:2]) / float(lux.mean())
         ref_light = Light(light.spectrum, light.uv_filter, float(lux.mean()),
                           light.hours_per_day, light.days_per_year)
         exact = age_image_exact(src, list(YEARS), get_recipe("printed-paper"), ref_light,
@@ -114,15 +105,13 @@ def main(argv=None):
         cells = []
         for years, ref in zip(YEARS, exact):
             (aged,) = api.apply_aging(scene, years).values()
-            ours = pixels(aged)[..., :3]
-            if aged.colorspace_settings.name != "sRGB":
-                from lightfade_addon.core.colour.colorimetry import srgb_encode
-                ours = srgb_encode(np.clip(ours, 0, 1))
+            ours = read_linear(aged)[..., :3]
             api.live_aging(scene)
-            d = delta_E_2000(lab(ours), lab(ref))
+            d = delta_E_2000(lab(ours), lab(srgb_decode(ref)))
             p99, mx = float(np.percentile(d, 99)), float(d.max())
             worst = [max(worst[0], p99), max(worst[1], mx)]
             cells.append(f"{p99:6.2f} / {mx:5.2f}")
+        H, W = src.shape[:2]
         print(f"{name:18s} {W:4d}x{H:<4d} {per_year / 1e6:9.2f} {age_s:6.1f}  " + "   ".join(cells),
               flush=True)
     print(f"worst p99 {worst[0]:.2f} (target 0.6), worst max {worst[1]:.2f} (target 1.5)")

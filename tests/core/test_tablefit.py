@@ -86,8 +86,8 @@ def test_across_the_cube_the_table_is_within_the_bound_of_the_exact_path(poster)
 
 
 def test_the_unmixing_table_is_the_extended_solution_at_its_nodes():
-    """``Φ`` solved coarse to fine (Newton steps from the coarser cube's interpolation)
-    is the full solve at every node of the cube, outside the gamut too."""
+    """``Φ`` solved by Newton steps from the unmixer's own table of ``Φ`` is the full
+    solve at every node of the cube, outside the gamut too."""
     from lightfade_addon.core.aging.colourtable import cube_colours
 
     recipe = get_recipe("dyed-fabric")

@@ -25,12 +25,13 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
-from ...core.aging.colourtable import atlas_layout, atlas_pixels, table_from_atlas
+from ...core.aging.colourtable import atlas_pixels, table_from_atlas
 from ...core.fading.lights import spectra_keys
 from ...core.aging.tablebuild import TableSettings, load_or_build, table_key
 from ..errors import AgingError
 from ..exposure import exposure_images
 from ..pixels import read_rgba, resample, write_rgba
+from .group import EVAL_PREFIX
 
 TABLE_PREFIX = "LF_Table_"
 #: Images of older versions (per-copy keys, rates, restored textures), removed on Age/Reset.
@@ -165,9 +166,9 @@ def used_tables():
 def purge_tables():
     """Remove table images no aged copy reads, images of older versions, and the
     evaluation groups no aging group uses."""
-    from .group import purge_eval_groups
-
-    purge_eval_groups()
+    for tree in list(bpy.data.node_groups):
+        if tree.name.startswith(EVAL_PREFIX) and tree.users == 0:
+            bpy.data.node_groups.remove(tree)
     used = used_tables()
     for image in list(bpy.data.images):
         if image.name.startswith(TABLE_PREFIX) and image not in used:

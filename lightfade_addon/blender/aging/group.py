@@ -360,15 +360,8 @@ def eval_group(spec):
     for tree in bpy.data.node_groups:
         if tree.name.startswith(EVAL_PREFIX) and tree.get(EVAL_KEY) == key:
             return tree
-    name = EVAL_PREFIX + spec.table_image.name.removeprefix("LF_Table_")
+    name = EVAL_PREFIX + spec.table_image.name
     return build_eval(bpy.data.node_groups.new(name, "ShaderNodeTree"), spec)
-
-
-def purge_eval_groups():
-    """Remove the evaluation groups no aging group uses any more."""
-    for tree in list(bpy.data.node_groups):
-        if tree.name.startswith(EVAL_PREFIX) and tree.users == 0:
-            bpy.data.node_groups.remove(tree)
 
 
 def build(tree, spec):

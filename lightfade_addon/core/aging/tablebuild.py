@@ -37,7 +37,7 @@ from ..fading.lattice import concentration_axis, mix_lattice
 from .restore import restore
 from ..fading.spectra import WAVELENGTHS, light_spectrum
 from .table import in_blocks, mix_slots
-from ..fading.unmix import get_unmixer
+from ..fading.unmix import EXTENSION_STEPS, get_unmixer
 from .tablefit import dose_fit, fine_doses
 
 __all__ = ["TABLE_FORMAT", "TableSettings", "build_table", "load_or_build", "table_key"]
@@ -156,33 +156,27 @@ def _saturated_length(values):
     return int(min(values.shape[1], (idx[-1] + 2) if idx.size else 2))
 
 
-def _solve(unmixer, encoded, extended=False, start=None):
-    """Converged concentrations (``extended``: ``Φ``, unbounded, from ``start`` where
-    given) of encoded colours (n, 3), in blocks on threads (the rows are independent:
-    the result does not depend on the blocks)."""
+def _solve(unmixer, encoded, extended=False):
+    """Converged concentrations (``extended``: ``Φ``, unbounded) of encoded colours
+    (n, 3), in blocks on threads (the rows are independent: the result does not depend
+    on the blocks)."""
     c = np.zeros((encoded.shape[0], unmixer.Cu))
     if unmixer.Cu == 0:
         return c
     size = -(-encoded.shape[0] // _THREADS)
 
+    # three colourants: Eq. U1 is square, one solution per colour, reached from the
+    # table of Φ; fewer: least squares, whose local minima the full solve must choose
+    # as the exact path does
+    steps = EXTENSION_STEPS if unmixer.Cu == 3 else None
+
     def block(s0):
         rows = slice(s0, s0 + size)
-        if not extended:
-            c[rows] = unmixer.unmix(encoded[rows], encoded=True)
-        else:
-            c[rows] = unmixer.extended(encoded[rows], encoded=True,
-                                       start=None if start is None else start[rows])
+        c[rows] = (unmixer.extended(encoded[rows], encoded=True, steps=steps)
+                   if extended else unmixer.unmix(encoded[rows], encoded=True))
 
     in_blocks(block, encoded.shape[0], size, _THREADS)
     return c
-
-
-def _coarse_side(A):
-    """The coarser cube ``Φ`` is first solved on: every other node, down to 9 or so."""
-    side = A
-    while side > 9 and (side - 1) % 2 == 0:
-        side = (side - 1) // 2 + 1
-    return side
 
 
 def _unmixing(unmixer, settings, say):
@@ -195,43 +189,11 @@ def _unmixing(unmixer, settings, say):
 
 @functools.lru_cache(maxsize=8)
 def _unmixing_cached(unmixer, A, gamma):
-    """:func:`_unmixing` of an :class:`..fading.unmix.Unmixer` (one per optics).
-
-    Solved in full (bounded solve, then Newton steps on Eq. U1) on a coarse cube, then on
-    each finer cube (twice the nodes per axis) by Newton steps from the coarser one's
-    trilinear interpolation: ``Φ`` is smooth, so a few steps converge (the same
-    solution: Eq. U1 has one per colour), at a fraction of the full solves' cost.
-    """
-    if unmixer.Cu == 0:
-        return np.zeros((A, A, A, 3), dtype=np.float16)
-    side = _coarse_side(A)
-    phi = _solve(unmixer, srgb_encode(cube_colours(side, gamma)), True)
-    while side < A:
-        fine = 2 * side - 1
-        start = _refine(phi.reshape(side, side, side, -1))
-        phi = _solve(unmixer, srgb_encode(cube_colours(fine, gamma)), True, start)
-        side = fine
+    """:func:`_unmixing` of an :class:`..fading.unmix.Unmixer` (one per optics)."""
     out = np.zeros((A ** 3, 3))
+    phi = _solve(unmixer, srgb_encode(cube_colours(A, gamma)), extended=True)
     out[:, :unmixer.Cu] = np.clip(phi, -UNMIX_MARGIN, 1.0 + UNMIX_MARGIN)
     return out.reshape(A, A, A, 3).astype(np.float16)
-
-
-def _refine(values):
-    """Trilinear interpolation of a cube's node values (n, n, n, K) at the nodes of the
-    cube with twice the nodes per axis (2n - 1), flattened in the same order."""
-    for axis in range(3):
-        mid = 0.5 * (np.take(values, range(values.shape[axis] - 1), axis)
-                     + np.take(values, range(1, values.shape[axis]), axis))
-        shape = list(values.shape)
-        shape[axis] = 2 * shape[axis] - 1
-        out = np.empty(shape)
-        index = [slice(None)] * 4
-        index[axis] = slice(0, None, 2)
-        out[tuple(index)] = values
-        index[axis] = slice(1, None, 2)
-        out[tuple(index)] = mid
-        values = out
-    return values.reshape(-1, values.shape[-1])
 
 
 def _over_concentrations(recipe, spectra, doses, settings, say):

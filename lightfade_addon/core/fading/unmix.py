@@ -272,24 +272,20 @@ class Unmixer:
                                         h, step_tol=STEP_TOLERANCE)
         return bounded_gauss_newton(lambda x, rows=None: self.Lab(x), c, Lab, iterations, h)
 
-    def extended(self, rgb, encoded=False, start=None):
+    def extended(self, rgb, encoded=False, steps=None):
         """``Φ`` (Eq. U2) of colours (N, 3), unbounded: the concentrations a colour
         needs on the forward model extended past [0, 1] (what the colour table
         tabulates; :meth:`unmix` is its clip).
 
-        ``start`` (N, Cu), a nearby solution (e.g. ``Φ`` interpolated from a coarser
-        cube), skips the bounded solve: Newton steps on Eq. U1 from there only.
+        ``steps`` None: the bounded solve, then Newton steps past the box (as
+        :meth:`unmix` converges); an int: at most that many Newton steps of Eq. U1 from
+        the table of ``Φ`` (:attr:`lut`), each row stopping once converged: ``Φ`` is
+        smooth, so its interpolation is a close start (the same solution, faster).
         """
         rgb = np.asarray(rgb, dtype=float).reshape(-1, 3)
         if self.Cu == 0:
             return np.zeros((rgb.shape[0], 0))
-        if start is None:
-            return self._solve(rgb, encoded, None, clip=False)
-        from ..colour.colorimetry import srgb_decode
-
-        lin = srgb_decode(np.clip(rgb, 0.0, 1.0)) if encoded else np.clip(rgb, 0.0, 1.0)
-        return extended_newton(self.Lab, np.array(start, dtype=float),
-                               XYZ_to_Lab(linear_srgb_to_XYZ(lin)))
+        return self._solve(rgb, encoded, steps, clip=False)
 
     def solve_linear_srgb(self, rgb, iterations=12):
         """Concentrations for linear sRGB colours (N, 3) (exact solve, no table)."""
