@@ -155,28 +155,3 @@ def test_3d_filter_of_a_stack_is_each_map_filtered_alone(f3):
         alone = f3.smooth_on_surface(raws[j], guides[j], position, normal, covered, texel)
         np.testing.assert_allclose(both[j], alone, rtol=1e-5, atol=1e-7)
     assert not np.allclose(both[0], both[1], rtol=0.1)
-
-
-def test_3d_filter_finds_every_close_pair_once_in_batches(f3, monkeypatch):
-    """The pair search runs in batches along x (bounded memory on large maps): every pair
-    closer than the radius comes out exactly once, and the filter gives the same result
-    in small batches as in one."""
-    from scipy.spatial import cKDTree
-
-    rng = np.random.default_rng(3)
-    points = rng.random((3000, 3))
-    radius = 0.08
-    found = np.concatenate([np.sort(np.stack(p, 1), axis=1)
-                            for p in f3._close_pairs(points, radius, chunk=97)])
-    expected = cKDTree(points).query_pairs(radius, output_type="ndarray")
-    assert len(found) == len(expected)
-    assert {tuple(p) for p in found} == {tuple(sorted(p)) for p in expected}
-
-    position, normal, covered, texel = flipped_halves()
-    guide = np.where(position[..., 1] < 32 * texel, 1.0, 0.05)
-    raw = guide * rng.exponential(1.0, guide.shape)
-    whole = f3.smooth_on_surface(raw, guide, position, normal, covered, texel)
-    monkeypatch.setattr(f3, "_CHUNK", 101)
-    monkeypatch.setattr(f3._close_pairs, "__defaults__", (101,))
-    batched = f3.smooth_on_surface(raw, guide, position, normal, covered, texel)
-    np.testing.assert_allclose(batched, whole, rtol=1e-5, atol=1e-7)

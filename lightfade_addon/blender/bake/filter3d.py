@@ -32,28 +32,27 @@ from __future__ import annotations
 
 import numpy as np
 
-#: Neighbourhood radius in texels of the object's map (a disc of 25 texels on a flat part).
+#: Neighbourhood radius in texels of the object's map (a disc of ~28 texels on a flat part).
 RADIUS_TEXELS = 3.0
+#: Neighbours looked at per texel (the disc; other surfaces within reach take places).
+NEIGHBOURS = 32
 #: Normals less aligned than this do not mix.
 MIN_DOT = 0.6
 #: Width of the range weight, in stops (log2) of the denoised value.
 RANGE_STOPS = 0.7
-#: Texels whose pairs are found in one batch (memory: ~13 pairs × 40 bytes each).
-_CHUNK = 1 << 18
+#: Texels per query chunk (memory: ~ NEIGHBOURS × 40 bytes each).
+_CHUNK = 65536
 
 
 def smooth_on_surface(raw, guide, position, normal, covered, texel,
-                      radius_texels=RADIUS_TEXELS, min_dot=MIN_DOT,
+                      radius_texels=RADIUS_TEXELS, neighbours=NEIGHBOURS, min_dot=MIN_DOT,
                       range_stops=RANGE_STOPS, floor=1e-3):
     """``raw`` averaged over its 3D neighbours on the surface, edges from ``guide`` (the
     equation above).
 
-    Every pair of texels closer than the radius is found once (:func:`_close_pairs`;
-    about twice as fast as asking each texel for its nearest ones); ``w_ij`` is
-    symmetric in its three factors, so each pair adds to both texels.
     The maps of one object (one per light group) share its texels: stacked as
-    ``(G, H, W)`` they share the one pair search and the distance and normal weights
-    ``K · n``; only the range weight ``g`` is each map's own.
+    ``(G, H, W)`` they share one neighbour search and one set of distance and normal
+    weights ``K · n``; only the range weight ``g`` is each map's own.
 
     Parameters
     ----------
@@ -76,6 +75,8 @@ def smooth_on_surface(raw, guide, position, normal, covered, texel,
     ndarray, shape like ``raw``, float32
         Covered texels: the weighted mean; others: ``guide``.
     """
+    from scipy.spatial import cKDTree
+
     single = np.ndim(guide) == 2
     stack = (lambda a: np.asarray(a, dtype=np.float32)[None]) if single else (
         lambda a: np.asarray(a, dtype=np.float32))
@@ -86,46 +87,30 @@ def smooth_on_surface(raw, guide, position, normal, covered, texel,
         return out[0] if single else out
     P = np.asarray(position, dtype=np.float64)[cov]
     N = np.asarray(normal, dtype=np.float32)[cov]
-    B = stack(raw)[:, cov]                                     # (G, m)
-    g = out[:, cov].astype(np.float64)
-    top = np.percentile(g, 99, axis=1, keepdims=True)
+    B = stack(raw)[:, cov].T                                   # (m, G)
+    g = out[:, cov].T.astype(np.float64)
+    top = np.percentile(g, 99, axis=0)
     level = np.log2(np.maximum(g, np.maximum(top * floor, 1e-30))).astype(np.float32)
     radius = float(radius_texels) * float(texel)
-    local = (P - P.mean(axis=0)).astype(np.float32)            # float32 near the object
     spread = np.float32(-0.5 / range_stops ** 2)
-    total = np.ones(B.shape, dtype=np.float64)                 # the texel itself: 1
-    summed = B.astype(np.float64)
-    for i, j in _close_pairs(P, radius):
-        step = local[i] - local[j]
-        near = np.maximum(np.float32(1.0) - np.einsum("pc,pc->p", step, step)
-                          * np.float32(radius ** -2), np.float32(0.0))    # K(d / r)
-        dot = np.einsum("pc,pc->p", N[i], N[j])
-        near *= np.clip((dot - min_dot) / (1.0 - min_dot), 0.0, 1.0).astype(np.float32)
-        for k in range(B.shape[0]):
-            w = near * np.exp(spread * (level[k, i] - level[k, j]) ** 2)
-            total[k] += np.bincount(i, w, m) + np.bincount(j, w, m)
-            summed[k] += np.bincount(i, w * B[k, j], m) + np.bincount(j, w * B[k, i], m)
-    result = (summed / total).astype(np.float32)
-    out[:, cov] = result
+    tree = cKDTree(P)
+    k = min(int(neighbours), m)
+    result = np.empty(B.shape, dtype=np.float32)
+    for start in range(0, m, _CHUNK):
+        rows = slice(start, min(start + _CHUNK, m))
+        dist, idx = tree.query(P[rows], k=k, distance_upper_bound=radius, workers=-1)
+        dist, idx = dist.reshape(-1, k), idx.reshape(-1, k)
+        found = idx < m
+        idx = np.where(found, idx, 0)
+        near = np.where(found, np.maximum(1.0 - (dist / radius) ** 2, 0.0), 0.0).astype(np.float32)
+        dot = np.einsum("ic,ijc->ij", N[rows], N[idx])
+        near *= np.clip((dot - min_dot) / (1.0 - min_dot), 0.0, 1.0)
+        for j in range(B.shape[1]):
+            w = near * np.exp(spread * (level[rows, j, None] - level[idx, j]) ** 2)
+            w[:, 0] = np.maximum(w[:, 0], 1e-6)      # the texel itself (distance 0) counts
+            result[rows, j] = (w * B[idx, j]).sum(axis=1) / w.sum(axis=1)
+    out[:, cov] = result.T
     return out[0] if single else out
-
-
-def _close_pairs(points, radius, chunk=_CHUNK):
-    """Every pair ``(i, j)``, ``i < j``, of ``points`` closer than ``radius``, once, in
-    batches of about ``chunk`` first points (memory stays bounded on large maps): the
-    points sorted along x, each batch searched with the points up to ``radius`` beyond
-    it, and a pair kept by the batch holding its first point."""
-    from scipy.spatial import cKDTree
-
-    order = np.argsort(points[:, 0], kind="stable")
-    x = points[order, 0]
-    for lo in range(0, len(order), chunk):
-        hi = min(lo + chunk, len(order))
-        reach = int(np.searchsorted(x, x[hi - 1] + radius, side="right"))
-        part = order[lo:reach]
-        a, b = cKDTree(points[part]).query_pairs(radius, output_type="ndarray").T
-        first = np.minimum(a, b) < hi - lo
-        yield part[a[first]], part[b[first]]
 
 
 def extend_over_margin(values, covered, inside):
