@@ -112,9 +112,9 @@ def table_key(recipe, spectra_keys_, settings, prior=None):
     return h.hexdigest()[:32]
 
 
-def _simulate(recipe, spectra, doses, settings, grid, say):
-    """A :class:`.grid.FadeGrid` on ``doses`` at the concentration nodes of ``grid``
-    (:class:`.grid.GridSettings`).
+def _simulate(recipe, spectra, doses, settings, say):
+    """A :class:`.grid.FadeGrid` on ``doses`` at the concentration nodes of the paper's
+    grid (:attr:`TableSettings.grid`).
 
     Simulated at :attr:`TableSettings.substeps` points per dose interval and fitted
     to the nodes (:func:`.tablefit.dose_fit`): the change curves' interpolation in
@@ -122,6 +122,7 @@ def _simulate(recipe, spectra, doses, settings, grid, say):
     colour's curve."""
     sub = max(1, settings.substeps)
     fine = fine_doses(settings.low_dose, settings.per_decade, doses.size, sub)
+    grid = settings.grid
     axes = [concentration_axis(grid.points, grid.power) for _ in recipe.unmixed]
     q = mix_resolution(spectra.shape[0])
     mixes = mix_lattice(spectra.shape[0], q)
@@ -196,19 +197,26 @@ def _unmixing_cached(unmixer, A, gamma):
     return out.reshape(A, A, A, 3).astype(np.float16)
 
 
+def _curves(grid, unmixer, c):
+    """Change curves (n, M, T, 3) of concentrations ``c`` (n, Cu) on the simulated
+    ``grid`` (:meth:`.grid.FadeGrid.curves`; where the grid keeps the unexposed colour,
+    each colour's own, from the forward model, so it is exact)."""
+    initial = np.log(np.maximum(unmixer.XYZ(c), XYZ_FLOOR)) if grid.initial is not None else None
+    return grid.curves(c, initial)
+
+
 def _over_concentrations(recipe, spectra, doses, settings, say):
     """The change (M, T, N, N, N, 3), axes mix, dose, k3, k2, k1, at the concentration
     nodes ``c = (k / (N - 1)) ** power``: the paper's grid (:attr:`TableSettings.grid`,
     coarser) simulated and interpolated there (:meth:`.grid.FadeGrid.curves`: a cubic
     spline of the aged colour, the unexposed colour exact)."""
     N = settings.side
-    grid = _simulate(recipe, spectra, doses, settings, settings.grid, say)
+    grid = _simulate(recipe, spectra, doses, settings, say)
     unmixer = get_unmixer(recipe)
     Cu = unmixer.Cu
     k = (np.arange(N) / (N - 1.0)) ** settings.power
     c = np.stack(np.meshgrid(*[k] * Cu, indexing="ij"), -1).reshape(-1, Cu)
-    initial = np.log(np.maximum(unmixer.XYZ(c), XYZ_FLOOR)) if grid.initial is not None else None
-    curves = grid.curves(c, initial)                       # (N^Cu, M, T, 3), c1 slowest
+    curves = _curves(grid, unmixer, c)                     # (N^Cu, M, T, 3), c1 slowest
     change = np.moveaxis(curves, 0, 2).reshape(curves.shape[1:3] + (N,) * Cu + (1,) * (3 - Cu) + (3,))
     change = np.broadcast_to(change, change.shape[:2] + (N, N, N, 3))
     return np.ascontiguousarray(change.transpose(0, 1, 4, 3, 2, 5))
@@ -224,12 +232,11 @@ def _over_seen_colours(recipe, spectra, doses, settings, prior, restore_kw, say)
     back = restore(seen, prior.years, recipe, prior.lights, encoding="linear",
                    **(restore_kw or {}))
     original, lost = back.image.astype(float), back.lost.reshape((N,) * 3)
-    grid = _simulate(recipe, spectra, doses, settings, settings.grid, say)
+    grid = _simulate(recipe, spectra, doses, settings, say)
     unmixer = get_unmixer(recipe)
     say(0.8, f"unmixing {seen.shape[0]} colours")
     c = _solve(unmixer, srgb_encode(np.clip(original, 0, 1)))
-    initial = np.log(np.maximum(unmixer.XYZ(c), XYZ_FLOOR)) if grid.initial is not None else None
-    curves = grid.curves(c, initial)                       # (N³, M, T, 3)
+    curves = _curves(grid, unmixer, c)                     # (N³, M, T, 3)
     XYZ_seen = np.maximum(linear_srgb_to_XYZ(seen), XYZ_FLOOR)
     XYZ_new = np.maximum(linear_srgb_to_XYZ(np.clip(original, 0, None)), XYZ_FLOOR)
     curves += np.log(XYZ_new / XYZ_seen).astype(np.float32)[:, None, None, :]

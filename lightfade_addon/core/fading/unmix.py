@@ -30,7 +30,8 @@ import functools
 
 import numpy as np
 
-from ..colour.colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_encode, xyz_weights
+from ..colour.colorimetry import (XYZ_to_Lab, linear_srgb_to_XYZ, srgb_decode, srgb_encode,
+                                  xyz_weights)
 from .kubelka import kubelka_layer, over_ground
 from .recipes import Recipe
 from .spectra import WAVELENGTHS
@@ -300,8 +301,6 @@ class Unmixer:
             n = self.lut_size
             axis = np.linspace(0.0, 1.0, n)
             enc = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
-            from ..colour.colorimetry import srgb_decode
-
             lin = srgb_decode(enc)
             phi = extended_newton(self.Lab, self.solve_linear_srgb(lin),
                                   XYZ_to_Lab(linear_srgb_to_XYZ(lin)))
@@ -344,8 +343,6 @@ class Unmixer:
                 w = w * (f[:, k] if b else 1.0 - f[:, k])
             out += w[:, None] * lut[i[:, 0] + bits[0], i[:, 1] + bits[1], i[:, 2] + bits[2]]
         if refine is None or refine:
-            from ..colour.colorimetry import srgb_decode
-
             target = XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(e)))
             if refine is None:                  # converged: bounded, then past the box
                 bounded = self._gauss_newton(np.clip(out, 0.0, 1.0), target, None)
