@@ -13,6 +13,8 @@ Modules, one job each:
 ``targets``  which objects are baked; the target image nodes in their real materials
 ``surface``  the baked texels read as white diffuse, the real material for every other ray
 ``denoise``  OIDN through Blender's compositor, guided by UV islands
+``settings`` the settings of one bake (preset, density, seed, portals)
+``portals``  temporary light portals over windows while the sky is baked
 ``exposure`` the bake loop (one Cycles call per group), :func:`bake_exposure`
 ``calibration`` two tiny bakes that give the estimate its rate
 ``maps``     storing maps; reading them back for aging; signature; removal
@@ -29,7 +31,8 @@ from .common import (
 )
 from .emitters import Emitter, LightGroup, find_emitters, find_groups, group_emitters
 from .calibration import calibrate
-from .exposure import BakeSettings, ExposureBake, bake_exposure
+from .exposure import ExposureBake, bake_exposure
+from .settings import BakeSettings
 from .maps import (
     StaleExposureError,
     exposure_signature,

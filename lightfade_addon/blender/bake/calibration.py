@@ -4,7 +4,8 @@ from __future__ import annotations
 
 from . import sizing
 from .emitters import isolate
-from .exposure import BakeSettings, ExposureBake, scene_and_layer
+from .exposure import ExposureBake, scene_and_layer
+from .settings import BakeSettings
 from .state import BakeState
 from .targets import attach_targets, check_bake_result
 

@@ -225,11 +225,17 @@ def silence_emission(state, obj):
             state.set(socket, "default_value", 0.0)
 
 
+def bakes_sky(group):
+    """``group`` bakes the world or annual daylight: light through windows, where a
+    portal guides Cycles."""
+    return any(e.kind in ("DAYLIGHT", "WORLD") for e in group.emitters)
+
+
 def isolate(state, scene, group):
     """Let only ``group``'s emitters shine (other lamps hidden, emission off, no world; the
     daylight group: the annual sky as the world)."""
     members = {e.name for e in group.emitters}
-    sky = any(e.kind in ("DAYLIGHT", "WORLD") for e in group.emitters)
+    sky = bakes_sky(group)
     if any(e.kind == "DAYLIGHT" for e in group.emitters):
         _daylight.use_annual_world(state, scene)
     elif not sky:

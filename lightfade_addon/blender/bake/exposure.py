@@ -24,9 +24,11 @@ import numpy as np
 from . import daylight as _daylight
 from . import denoise as _denoise
 from . import filter3d
+from . import portals as _portals
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
 from .emitters import (
+    bakes_sky,
     group_emitters,
     find_emitters,
     isolate,
@@ -34,64 +36,11 @@ from .emitters import (
     uncounted_note,
 )
 from .maps import members, prune_maps, store_map
-from .presets import PRESETS
+from .settings import BakeSettings
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
 from .sizing import planned_map
 from .uvmaps import make_unique_uv, texel_geometry
-
-
-@dataclass
-class BakeSettings:
-    """Bake parameters.
-
-    Attributes
-    ----------
-    resolution : int or None
-        Width and height of every map, px; None: from ``texels_per_metre``.
-    samples : int
-        Cycles samples per texel.
-    margin : int
-        Bake margin, px.
-    unwrap : bool
-        Give meshes without a UV map a ``LightFadeUV`` map (otherwise they are skipped).
-    denoise : bool
-        Denoise each map (OIDN, island-aware).
-    texels_per_metre : float
-        Map density when ``resolution`` is None.
-    max_size : int
-        Largest map width from the density.
-    seed : int
-        Cycles seed (two seeds give independent noise).
-    """
-
-    resolution: int | None = None
-    samples: int = PRESETS["FINAL"].samples
-    margin: int = 16
-    unwrap: bool = False
-    denoise: bool = True
-    texels_per_metre: float = 256.0
-    max_size: int = 1024
-    seed: int = 0
-
-    @classmethod
-    def from_scene(cls, scene, unwrap=False):
-        """The scene's settings: quality preset, density, max size (``bake_resolution``).
-
-        A preset brings its samples; ``Scene.lightfade.bake_samples`` counts with the
-        Custom quality only.
-        """
-        props, bake = scene.lightfade, scene.lightfade_bake
-        preset = PRESETS.get(bake.quality)
-        return cls(
-            resolution=None,
-            samples=preset.samples if preset else props.bake_samples,
-            margin=props.bake_margin,
-            unwrap=unwrap,
-            denoise=preset.denoise if preset else bake.denoise,
-            texels_per_metre=bake.texels_per_metre,
-            max_size=props.bake_resolution,
-        )
 
 
 @dataclass
@@ -167,6 +116,13 @@ class ExposureBake:
         self.targets = targets
         self.emitters = emitters
         self.groups = group_emitters(scene, emitters)
+        self.windows = []
+        if self.settings.portals and any(bakes_sky(g) for g in self.groups):
+            self.windows = _portals.find_windows(scene, depsgraph, layer)
+            note = _portals.windows_note(self.windows)
+            if note:
+                self.notes.append(note)
+                self.report(note)
         self.steps = []
         for group in self.groups:
             names = set(group.member_names)
@@ -249,6 +205,8 @@ class ExposureBake:
         step = self.steps[self.done]
         with BakeState(self.scene, self.view_layer) as inner:
             isolate(inner, self.scene, step.group)
+            if bakes_sky(step.group):
+                _portals.add_portals(inner, self.scene, self.windows)
             images = {}
             for obj in step.objects:
                 image = self.state.new_image(f"{obj.name}_{step.group.name}", self.sizes[obj.name])

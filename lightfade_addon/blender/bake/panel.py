@@ -15,7 +15,7 @@ from .emitters import (
     uncounted_note,
     world_counts,
 )
-from .exposure import BakeSettings
+from .settings import BakeSettings
 from .sizing import planned_map
 from .presets import PRESETS
 from .targets import find_targets, validate_targets
@@ -101,6 +101,7 @@ def draw_bake_panel(layout, context):
     col.prop(bake, "texels_per_metre")
     col.prop(props, "bake_resolution", text="Max Size")
     col.prop(props, "bake_margin")
+    col.prop(bake, "window_portals")
 
     view_layer = getattr(context, "view_layer", None) or scene.view_layers[0]
     emitters = find_emitters(scene, view_layer)

@@ -114,6 +114,13 @@ class LIGHTFADE_PG_bake_settings(PropertyGroup):
         "up maps of groups that merged (a schedule made equal) without baking",
         default=False,
     )
+    window_portals: BoolProperty(
+        name="Portals over Windows",
+        description="While the sky (world or annual daylight) is baked, put a temporary Cycles "
+        "light portal over each window (a flat pane of glass with the sky on one side): less "
+        "noise indoors, the same mean. Off where the scene has portals of its own",
+        default=True,
+    )
     texels_per_metre: FloatProperty(
         name="Texels per Metre",
         description="Exposure map density: map size follows each object's surface area, up to "
