@@ -4,7 +4,7 @@ surface, in a furnished room of public glTF assets.
 Usage (from the repository root; the assets are not part of the repository)::
 
     python benchmarks/real_room_bake.py ASSET_DIR [--room furnished|open] [--density D]
-        [--max-size N] [--samples 64] [--reference 256] [--reference-seeds 2]
+        [--max-size N] [--seeds 2] [--samples 64] [--reference 256] [--reference-seeds 2]
         [--radius 0.06] [--reference-cache out/ref.npz]
 
 The room is ``tools/furnished_room.py``'s by default (Drake's furnished living room, the
@@ -14,12 +14,13 @@ beside it; annual clear-sky daylight at 52° N); ``--room open`` takes
 density and max size (the defaults a user gets) unless given.  Its sofa and curtain are
 baked, in this order and on the same UV maps (the first bake makes them), with
 
-* the default quality (Final preset), seed 0,
+* the default quality (Final preset), seeds 0 … ``--seeds`` − 1 (each is one draw of
+  the noise: the figures of one seed can pass where the next one's do not),
 * ``--samples`` samples per texel (Custom quality, denoised), seed 0,
-* ``--reference`` samples per texel (Custom quality, denoised), seeds 1, 2, …: the first
-  is the reference (independent of the bakes above: another seed shares no path); the
-  others, measured against it, are the reference's own noise, the floor under every
-  figure.
+* ``--reference`` samples per texel (Custom quality, denoised), the seeds after the
+  default's: the first is the reference (independent of the bakes above: another seed
+  shares no path); the others, measured against it, are the reference's own noise, the
+  floor under every figure.
 
 Points: one per polygon, the centroid of its first triangle, read from each map
 (bilinear) at its UV.  A point is *lit* where the reference gets at least 5 % of the
@@ -199,6 +200,9 @@ def main():
                              "open: tools/real_room.py")
     parser.add_argument("--density", type=float, help="texels per metre (default: the scene's)")
     parser.add_argument("--max-size", type=int, help="largest map (default: the scene's)")
+    parser.add_argument("--seeds", type=int, default=2,
+                        help="default bakes with seeds 0, 1...: each is measured (one seed's "
+                             "figures are one draw of the noise)")
     parser.add_argument("--samples", type=int, default=64)
     parser.add_argument("--reference", type=int, default=256)
     parser.add_argument("--reference-seeds", type=int, default=2,
@@ -222,12 +226,13 @@ def main():
         scene.lightfade_daylight.sky_width = args.sky_width
     cache = Path(args.reference_cache) if args.reference_cache else None
     cached = cache is not None and cache.exists()
-    runs = [("default (Final)", "FINAL", 8, 0)]
+    runs = [(f"default (Final) seed {k}", "FINAL", 8, k) for k in range(max(args.seeds, 1))]
     if args.samples:
         runs.append((f"{args.samples} samples", "CUSTOM", args.samples, 0))
     if not cached:
+        first_ref = max(args.seeds, 1)  # after the default's seeds: no shared path
         runs += [(f"{args.reference} seed {k}", "CUSTOM", args.reference, k)
-                 for k in range(1, max(args.reference_seeds, 1) + 1)]
+                 for k in range(first_ref, first_ref + max(args.reference_seeds, 1))]
     estimate = planned_estimate(scene, objects)
     results = [(label, *bake(scene, objects, q, s, args.save_maps, seed))
                for label, q, s, seed in runs]
@@ -242,7 +247,7 @@ def main():
     else:
         refs = results[-max(args.reference_seeds, 1):]
         if cache is not None:
-            np.savez(cache, **{f"{n}@{k}": v[0] for k, (_, vals, _, _) in enumerate(refs, 1)
+            np.savez(cache, **{f"{n}@{label.split()[2]}": v[0] for label, vals, _, _ in refs
                                for n, v in vals.items()})
     ref = refs[0][1]
     print(f"\n{args.room} room ({args.assets}): {len(objects)} objects, "

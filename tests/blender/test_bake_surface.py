@@ -178,6 +178,65 @@ def test_a_muted_surface_link_stays_muted_for_the_other_rays(blender, lf, monkey
     assert tree.nodes["Material Output"].inputs["Surface"].links[0].is_muted
 
 
+class TestProbeColour:
+    """The probe is white to the pass (it divides the colour out) but carries the surface's
+    own diffuse colour, so Russian roulette ends the paths leaving a texel as in a plain
+    bake of that surface (white texels cost 13 % more Cycles time in the lampshade room)."""
+
+    def _probe(self, plane, monkeypatch):
+        tree = plane.material_slots[0].material.node_tree
+        seen = []
+        real_bake = BakeState.bake
+
+        def spying(state):
+            colour = tree.nodes["LightFade Exposure Probe"].inputs["Color"]
+            if colour.is_linked:
+                node = colour.links[0].from_node
+                seen.append((node.name, node.operation,
+                             node.inputs[0].links[0].from_node.bl_idname))
+            else:
+                seen.append(tuple(colour.default_value))
+            return real_bake(state)
+
+        monkeypatch.setattr(BakeState, "bake", spying)
+        return seen
+
+    def test_a_plain_colour_is_the_probes_colour_at_least_the_floor(self, blender, lf,
+                                                                     monkeypatch):
+        from lightfade_addon.blender.bake.surface import PROBE_FLOOR
+
+        bpy.ops.mesh.primitive_plane_add(size=2.0)
+        plane = bpy.context.active_object
+        plane.name = "Plane"
+        mat = _material("Brown")
+        mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (
+            0.5, 0.3, 0.1, 1.0)
+        plane.data.materials.append(mat)
+        seen = self._probe(plane, monkeypatch)
+        lf.add_sun(SUN, THETA)
+        lux = lf.pixels(bake_exposure(bpy.context.scene, [plane], EXACT, **QUIET)
+                        ["maps"]["Plane"]["Sun"])
+        assert seen == [pytest.approx((0.5, 0.3, PROBE_FLOOR, 1.0))]
+        assert np.median(lux) == pytest.approx(SUN_LUX, rel=0.03)
+
+    def test_a_texture_feeds_the_probe_through_the_floor(self, blender, lf, monkeypatch):
+        plane = checker_plane("principled")
+        seen = self._probe(plane, monkeypatch)
+        lf.add_sun(SUN, THETA)
+        lux = lf.pixels(bake_exposure(bpy.context.scene, [plane], EXACT, **QUIET)
+                        ["maps"]["Plane"]["Sun"])
+        assert seen == [("LightFade Exposure Floor", "MAXIMUM", "ShaderNodeTexImage")]
+        dark, light = squares(lux)
+        assert dark == pytest.approx(SUN_LUX, rel=0.03) and light == pytest.approx(SUN_LUX, rel=0.03)
+
+    def test_a_mix_of_shaders_keeps_a_white_probe(self, blender, lf, monkeypatch):
+        plane = checker_plane("mix shader")
+        seen = self._probe(plane, monkeypatch)
+        lf.add_sun(SUN, THETA)
+        bake_exposure(bpy.context.scene, [plane], EXACT, **QUIET)
+        assert seen == [(1.0, 1.0, 1.0, 1.0)]
+
+
 class TestNormal:
     def test_a_bsdfs_normal_input_turns_the_texel(self, blender, lf):
         """A Principled BSDF whose Normal input faces the sun (a normal map would do this

@@ -11,7 +11,7 @@ Modules, one job each:
 ``uvmaps``   the UV map each object is baked on: overlap checks, LightFadeUV
 ``sizing``   map sizes from a texel density; time estimates from a calibration bake
 ``targets``  which objects are baked; the target image nodes in their real materials
-``surface``  the baked texels read as white diffuse, the real material for every other ray
+``surface``  the baked texels read as a Lambertian probe, the real material for every other ray
 ``denoise``  OIDN through Blender's compositor, guided by UV islands
 ``settings`` the settings of one bake (preset, density, seed, portals)
 ``portals``  temporary light portals over windows while the sky is baked

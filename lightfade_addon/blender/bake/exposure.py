@@ -3,7 +3,7 @@
 For each light group (:mod:`.emitters`) every other emitter is switched off and one
 Cycles call bakes the DIFFUSE pass (direct + indirect light, no colour) of all target
 objects at once, each into its own float image through a node added to its real
-materials (:mod:`.targets`), whose baked texels read as white diffuse (:mod:`.surface`):
+materials (:mod:`.targets`), whose baked texels read as a Lambertian (:mod:`.surface`):
 the light arriving, whatever the material.  Each map is then denoised (:mod:`.denoise`), turned into
 the luminance of the irradiance in lux (:mod:`.common`) and, once every group is done,
 stored on the objects (:mod:`.maps`).  Everything the bake changes is put back by

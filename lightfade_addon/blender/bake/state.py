@@ -116,10 +116,10 @@ class BakeState(Undo):
         there is none).
 
         Sample clamping is off: Cycles clamps a path's contribution *before* the pass is
-        divided by the surface's colour, and a baked texel is white (:mod:`.surface`), so
-        the scene's clamp (Blender's default: 10 on indirect light) would cut the rare
-        bright paths through a lampshade or glass at 10 where a plain bake of a surface of
-        colour ``c`` cuts them at ``10 / c``; without a clamp both are the unbiased
+        divided by the baked texel's colour (:mod:`.surface`'s probe, which need not be
+        the surface's: a dark one is at least 0.25), so the scene's clamp (Blender's
+        default: 10 on indirect light) would cut the rare bright paths through a
+        lampshade or glass where a plain bake would not; without a clamp both are the unbiased
         irradiance (``docs/bake.md``, "Light through shades").
 
         The bake operator does not take its pass filter from the scene, so the type and

@@ -1,4 +1,4 @@
-"""The baked surface as an irradiance meter: a white Lambertian for the bake, the real
+"""The baked surface as an irradiance meter: a Lambertian for the bake, the real
 material for every other ray.
 
 Cycles' DIFFUSE bake without colour divides the diffuse light a closure reflects by the
@@ -11,20 +11,27 @@ For the bake, each baked material therefore gets a second, temporary Material Ou
 (target Cycles, made active) fed by::
 
     Mix Shader(Fac = Light Path "Is Camera Ray",
-               0: the material's own Surface,  1: white Diffuse BSDF)
+               0: the material's own Surface,  1: Diffuse BSDF, the probe)
 
 Cycles starts every bake sample at the texel as a camera ray (``path_state_init_integrator``
-sets ``PATH_RAY_CAMERA`` for camera and bake paths alike), so the texel is shaded as white
-diffuse, whose DIFFUSE pass is the irradiance whatever the material; every ray after the
+sets ``PATH_RAY_CAMERA`` for camera and bake paths alike), so the texel is shaded as the
+probe, a Lambertian whose DIFFUSE pass (its colour divided out) is the irradiance
+whatever the material; every ray after the
 first bounce (light the object reflects onto itself, other targets seen from a texel)
 sees the material as it is.  A Mix Shader with a factor of exactly 0 or 1 evaluates only
 that input, so nothing of the real surface leaks into the texel.  The output's other
 inputs (Volume, Displacement, Thickness) are fed as before, so displacement and bump
-through the Displacement output shape the white texel too; where the shader feeding the
-output has a linked Normal input (a Principled BSDF with a normal or bump map), the white
-diffuse takes that normal as well.  Emission of the baked
+through the Displacement output shape the probe too; where the shader feeding the
+output has a linked Normal input (a Principled BSDF with a normal or bump map), the
+probe takes that normal as well.  Emission of the baked
 surface is not part of the DIFFUSE pass, so an emissive target does not count its own
 light; emission of other emitters is handled by :func:`.emitters.isolate`.
+
+The probe's colour is the surface's own diffuse colour (a Principled BSDF's Base Color,
+a Diffuse BSDF's Color, linked or not), at least :data:`PROBE_FLOOR`; white where another
+shader feeds the output.  The pass does not depend on it, Cycles' Russian roulette does:
+it lets a path go on with probability √(throughput), so after a white texel paths ran
+13 % longer than in a plain bake of the same surface (``docs/bake.md``).
 
 Nothing of the user's graph is touched: no link is cut, no value set; the only change is
 which output node is active, put back with the nodes removed on exit.
@@ -41,13 +48,20 @@ _PREFIX = "LightFade Exposure "
 #: The probe: (name, node type, settings), then links (from node, output, to node, input).
 _NODES = (
     ("Ray", "ShaderNodeLightPath", {}),
-    ("White", "ShaderNodeBsdfDiffuse", {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": 0.0}),
+    ("Probe", "ShaderNodeBsdfDiffuse", {"Color": (1.0, 1.0, 1.0, 1.0), "Roughness": 0.0}),
     ("Mix", "ShaderNodeMixShader", {}),
 )
 _LINKS = (
     ("Ray", "Is Camera Ray", "Mix", 0),
-    ("White", "BSDF", "Mix", 2),
+    ("Probe", "BSDF", "Mix", 2),
 )
+
+
+#: The probe's colour: the surface's own diffuse colour, at least this (Russian roulette
+#: then ends paths as in a plain bake; the pass divides the colour out again).
+PROBE_FLOOR = 0.25
+#: Where a shader keeps its diffuse colour.
+_BASE_COLOUR = {"ShaderNodeBsdfPrincipled": "Base Color", "ShaderNodeBsdfDiffuse": "Color"}
 
 
 def _outputs(tree):
@@ -62,8 +76,26 @@ def _relink(tree, socket, to_socket):
     return link.from_socket
 
 
+def _colour_probe(tree, shader, made):
+    """Give the probe the surface's own diffuse colour, at least :data:`PROBE_FLOOR`."""
+    name = _BASE_COLOUR.get(shader.bl_idname)
+    socket = shader.inputs.get(name) if name else None
+    if socket is None:
+        return
+    probe = made["Probe"].inputs["Color"]
+    if not socket.is_linked:
+        probe.default_value = [max(float(v), PROBE_FLOOR) for v in socket.default_value[:3]] + [1.0]
+        return
+    floor = made["Floor"] = tree.nodes.new("ShaderNodeVectorMath")
+    floor.name = floor.label = _PREFIX + "Floor"
+    floor.operation = "MAXIMUM"
+    floor.inputs[1].default_value = (PROBE_FLOOR,) * 3
+    _relink(tree, socket, floor.inputs[0])
+    tree.links.new(floor.outputs["Vector"], probe)
+
+
 def expose_surface(state, material):
-    """Make ``material`` read as white diffuse at the baked texels only; undone on exit.
+    """Make ``material`` read as the probe at the baked texels only; undone on exit.
 
     Parameters
     ----------
@@ -109,7 +141,8 @@ def expose_surface(state, material):
             source = _relink(tree, surface, made["Mix"].inputs[1])
             normal = source.node.inputs.get("Normal")
             if normal is not None and normal.is_linked:  # a BSDF's normal or bump map
-                _relink(tree, normal, made["White"].inputs["Normal"])
+                _relink(tree, normal, made["Probe"].inputs["Normal"])
+            _colour_probe(tree, source.node, made)
         for socket in real.inputs:
             if socket.identifier == "Surface" or socket.identifier not in out.inputs:
                 continue

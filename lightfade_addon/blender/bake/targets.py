@@ -2,7 +2,7 @@
 
 Each target is baked in its own real materials: LightFade adds an Image Texture node
 (made active: Cycles bakes into the active image node of each material) and a temporary
-output that shows the baked texels as white diffuse (:mod:`.surface`: the map is the light
+output that shows the baked texels as a Lambertian probe (:mod:`.surface`: the map is the light
 arriving, whatever the material's colour or finish), and removes both afterwards; every
 other ray sees the real materials, so the light the object bounces onto itself is what its
 materials really reflect.  Where one material serves several targets of the same Cycles
