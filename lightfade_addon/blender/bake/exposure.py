@@ -24,6 +24,7 @@ import numpy as np
 from . import daylight as _daylight
 from . import denoise as _denoise
 from . import filter3d
+from . import panes as _panes
 from . import portals as _portals
 from . import sizing
 from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
@@ -119,10 +120,10 @@ class ExposureBake:
         self.windows = []
         if self.settings.portals and any(bakes_sky(g) for g in self.groups):
             self.windows = _portals.find_windows(scene, depsgraph, layer)
-            note = _portals.windows_note(self.windows)
-            if note:
-                self.notes.append(note)
-                self.report(note)
+            for note in (_portals.windows_note(self.windows), _panes.panes_note(self.windows)):
+                if note:
+                    self.notes.append(note)
+                    self.report(note)
         self.steps = []
         for group in self.groups:
             names = set(group.member_names)
@@ -207,6 +208,7 @@ class ExposureBake:
             isolate(inner, self.scene, step.group)
             if bakes_sky(step.group):
                 _portals.add_portals(inner, self.scene, self.windows)
+                _panes.clear_panes(inner, self.windows)
             images = {}
             for obj in step.objects:
                 image = self.state.new_image(f"{obj.name}_{step.group.name}", self.sizes[obj.name])

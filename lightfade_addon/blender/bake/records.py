@@ -118,7 +118,8 @@ class LIGHTFADE_PG_bake_settings(PropertyGroup):
         name="Portals over Windows",
         description="While the sky (world or annual daylight) is baked, put a temporary Cycles "
         "light portal over each window (a flat pane of glass with the sky on one side): less "
-        "noise indoors, the same mean. Off where the scene has portals of its own",
+        "noise indoors, the same mean; glass that refracts is shown as a clear pane meanwhile, "
+        "so that Cycles' shadow rays pass it. Off where the scene has portals of its own",
         default=True,
     )
     texels_per_metre: FloatProperty(

@@ -43,7 +43,7 @@ from .common import LightFadeBakeError
 
 #: Name (and label) of the temporary output node; also marks a material already set up.
 OUTPUT_NAME = "LightFade Exposure Output"
-_PREFIX = "LightFade Exposure "
+PROBE_PREFIX = "LightFade Exposure "
 
 #: The probe: (name, node type, settings), then links (from node, output, to node, input).
 _NODES = (
@@ -87,7 +87,7 @@ def _colour_probe(tree, shader, made):
         probe.default_value = [max(float(v), PROBE_FLOOR) for v in socket.default_value[:3]] + [1.0]
         return
     floor = made["Floor"] = tree.nodes.new("ShaderNodeVectorMath")
-    floor.name = floor.label = _PREFIX + "Floor"
+    floor.name = floor.label = PROBE_PREFIX + "Floor"
     floor.operation = "MAXIMUM"
     floor.inputs[1].default_value = (PROBE_FLOOR,) * 3
     _relink(tree, socket, floor.inputs[0])
@@ -118,7 +118,7 @@ def expose_surface(state, material):
     made = {}
     for name, idname, inputs in _NODES:
         node = tree.nodes.new(idname)
-        node.name = node.label = _PREFIX + name
+        node.name = node.label = PROBE_PREFIX + name
         for key, value in inputs.items():
             node.inputs[key].default_value = value
         made[name] = node

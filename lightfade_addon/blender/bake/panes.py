@@ -1,0 +1,178 @@
+"""Refractive window panes made clear to every ray while the sky is baked.
+
+Cycles' shadow rays stop at a refracting surface (a Glass or Refraction BSDF, a
+Principled BSDF's transmission): through a glass window the sky and the sun reach the
+room only by paths that bounce off a texel and happen to refract out through the pane.
+Light sampling cannot make such paths, so neither the sky map's importance sampling nor
+a portal over the window (:mod:`.portals`) helps there: the bake is as noisy as with
+neither (a 2 m room with a 1 × 0.6 m pane: 0.75 of the mean per texel against 0.11 for a
+pane that lets shadow rays through; ``tests/blender/test_panes.py``).
+
+While the world or annual daylight is baked, each window's material that refracts
+(:func:`refracts`) is therefore shown to Cycles as a Transparent BSDF for *every* ray (a
+temporary output, made active, as :mod:`.surface` does; where the pane is itself baked,
+the probe's "every other ray" input instead).  Both ways of sampling then see the sky
+through it straight and agree, so their weighting stays exact.  Its colour is the pane's
+transmittance at normal incidence through its two faces (Fresnel) times the colour that
+tints what the shader transmits (:func:`pane_colour`)::
+
+    T = (1 - R)²,     R = ((n - 1) / (n + 1))²       (n = 1.5: T = 0.922)
+
+with ``n`` the shader's IOR and the tint its Color (Base Color for a Principled BSDF),
+where unlinked (1.5 and white otherwise: a textured tint is left out).  Left out too:
+what the pane reflects (into the room and off it), and the larger loss at grazing angles
+(a pane passes 0.92 at 0°, 0.88 at 45°, 0.71 at 60°): light through windows reads a few
+per cent high at grazing sun.  A material that already lets shadow rays through
+(alpha below 0.5, a Transparent BSDF, the *Is Shadow Ray* trick) is left as it is.
+"""
+
+from __future__ import annotations
+
+import bpy
+
+from .common import LightFadeBakeError
+from .surface import OUTPUT_NAME, PROBE_PREFIX
+
+#: Name (and label prefix) of the temporary nodes.
+PANE_PREFIX = "LightFade Clear Pane "
+_REFRACTING = {"BSDF_GLASS", "BSDF_REFRACTION"}
+_DEFAULT_IOR = 1.5
+
+
+def _transmission(node):
+    socket = node.inputs.get("Transmission Weight") or node.inputs.get("Transmission")
+    return socket is not None and not socket.is_linked and socket.default_value > 0.5
+
+
+def _alpha_cut(node):
+    socket = node.inputs.get("Alpha")
+    return socket is not None and not socket.is_linked and socket.default_value < 0.5
+
+
+def _upstream(tree):
+    """The user's unmuted nodes feeding the surface of the output Cycles uses (through
+    the bake's probe, :mod:`.surface`, where the material is baked)."""
+    out = tree.get_output_node("CYCLES")
+    todo = [out.inputs["Surface"]] if out is not None else []
+    seen = {}
+    while todo:
+        for link in todo.pop().links:
+            node = link.from_node
+            if link.is_muted or node.mute or node.as_pointer() in seen:
+                continue
+            seen[node.as_pointer()] = node
+            todo.extend(node.inputs)
+    return [n for n in seen.values() if not n.name.startswith(PROBE_PREFIX)]
+
+
+def refracts(material):
+    """The node of ``material`` that refracts where shadow rays stop at it, else None."""
+    tree = material.node_tree if material is not None else None
+    if tree is None:
+        return None
+    nodes = _upstream(tree)
+    if any(n.type in {"BSDF_TRANSPARENT", "LIGHT_PATH"} for n in nodes):
+        return None                             # already clear to shadow rays
+    found = None
+    for node in nodes:
+        if node.type == "BSDF_PRINCIPLED" and _alpha_cut(node):
+            return None
+        if node.type in _REFRACTING or (node.type == "BSDF_PRINCIPLED" and _transmission(node)):
+            found = node
+    return found
+
+
+def _unlinked(node, name, default):
+    socket = node.inputs.get(name)
+    return socket.default_value if socket is not None and not socket.is_linked else default
+
+
+def transmittance(ior):
+    """``T = (1 - R)²`` of a pane's two faces at normal incidence (see above)."""
+    r = ((ior - 1.0) / (ior + 1.0)) ** 2
+    return (1.0 - r) ** 2
+
+
+def pane_colour(node):
+    """The clear pane's RGB: ``T`` from the node's IOR times its colour (a Glass or
+    Refraction BSDF's Color, a Principled BSDF's Base Color: what tints the light it
+    transmits), both where unlinked (1.5 and white otherwise)."""
+    t = transmittance(float(_unlinked(node, "IOR", _DEFAULT_IOR)))
+    tint = _unlinked(node, "Base Color" if node.type == "BSDF_PRINCIPLED" else "Color",
+                     (1.0, 1.0, 1.0, 1.0))
+    return tuple(t * min(max(float(c), 0.0), 1.0) for c in tint[:3])
+
+
+def _pane_materials(windows):
+    """The distinct refracting materials of ``windows``: ``[(material, rgb)]``."""
+    found = {}
+    for window in windows:
+        obj = bpy.data.objects.get(window.obj)
+        slot = next((s for s in obj.material_slots if s.name == window.material), None) \
+            if obj is not None else None
+        material = slot.material if slot is not None else None
+        node = refracts(material)
+        if node is not None:
+            found[material.as_pointer()] = (material, pane_colour(node))
+    return list(found.values())
+
+
+def clear_panes(state, windows):
+    """Show each refracting window material as a clear pane (undone by ``state``);
+    returns the materials changed."""
+    changed = []
+    for material, rgb in _pane_materials(windows):
+        _clear(state, material, rgb)
+        changed.append(material)
+    return changed
+
+
+def _clear(state, material, rgb):
+    tree = material.node_tree
+    clear = tree.nodes.new("ShaderNodeBsdfTransparent")
+    clear.name = clear.label = PANE_PREFIX + "BSDF"
+    clear.inputs["Color"].default_value = (*rgb, 1.0)
+    made = [clear]
+    active = [(n, n.is_active_output) for n in tree.nodes
+              if n.bl_idname == "ShaderNodeOutputMaterial"]
+    probe = tree.nodes.get(OUTPUT_NAME)
+    previous = None
+    if probe is not None and probe.is_active_output:   # the pane is baked too
+        mix = probe.inputs["Surface"].links[0].from_node
+        old = mix.inputs[1].links[0] if mix.inputs[1].is_linked else None
+        previous = (old.from_socket, old.is_muted) if old is not None else None
+        tree.links.new(clear.outputs["BSDF"], mix.inputs[1])
+    else:
+        out = tree.nodes.new("ShaderNodeOutputMaterial")
+        out.name = out.label = PANE_PREFIX + "Output"
+        out.target = "CYCLES"
+        made.append(out)
+        tree.links.new(clear.outputs["BSDF"], out.inputs["Surface"])
+        out.is_active_output = True
+
+    def undo():
+        for node in made:
+            tree.nodes.remove(node)
+        if probe is not None and previous is not None:
+            mix = probe.inputs["Surface"].links[0].from_node
+            tree.links.new(previous[0], mix.inputs[1]).is_muted = previous[1]
+        for node, was in active:
+            node.is_active_output = was
+
+    state.push(undo)
+    if probe is None and tree.get_output_node("CYCLES") != made[-1]:
+        raise LightFadeBakeError(
+            f"Material \"{material.name}\": Cycles would not use LightFade's clear pane "
+            "for the sky's bake; turn Portals over Windows off, or report this with the file")
+
+
+def panes_note(windows):
+    """One line for the bake report naming the refracting panes, or ''."""
+    panes = _pane_materials(windows)
+    if not panes:
+        return ""
+    names = ", ".join(sorted(f'"{m.name}"' for m, _rgb in panes))
+    t = max(max(rgb) for _m, rgb in panes)
+    return (f"Window glass {names} refracts, which Cycles' shadow rays do not pass: shown as "
+            f"a clear pane (at most {t:.0%} through) while the sky is baked, so that its "
+            "light is sampled through the window")
