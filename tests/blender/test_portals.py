@@ -137,6 +137,18 @@ def test_a_pane_between_the_sky_and_a_room_gets_a_portal_facing_in(window_room):
     assert tuple(-w.matrix.col[2].xyz) == pytest.approx((0.0, -1.0, 0.0), abs=1e-6)  # -Z: in
 
 
+def test_a_mullion_across_the_panes_centre_does_not_hide_the_window(window_room):
+    """A bar through the middle of the pane (the centre's rays hit it on both sides): the
+    other points of the pane still see the sky one way and the room the other."""
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 1.0, 1.0))
+    bar = bpy.context.active_object
+    bar.name, bar.scale = "Mullion", (0.08, 0.1, 0.6)
+    bpy.context.view_layer.update()
+    windows = _windows()
+    assert [w.obj for w in windows] == ["Pane"]
+    assert tuple(-windows[0].matrix.col[2].xyz) == pytest.approx((0.0, -1.0, 0.0), abs=1e-6)
+
+
 def test_no_portal_for_glass_inside_a_room_outdoors_or_beside_a_users_portal(window_room):
     room, pane = window_room
     glass = pane.data.materials[0]

@@ -12,8 +12,9 @@ change, only its noise.
 A **window** here is a flat patch of a mesh whose material lets light through (a
 Glass, Transparent or Refraction BSDF, or a Principled BSDF with transmission or
 alpha; :func:`clear_slots`), at least :data:`MIN_AREA`, with the world on one side and
-the scene on the other: a ray from its centre escapes along one normal and hits
-something along the other (:func:`find_windows`). A glass vase inside a room has the
+the scene on the other: rays from points over it escape along one normal and hit
+something along the other (:func:`find_windows`; a mullion in front of some points
+does not decide). A glass vase inside a room has the
 room on both sides, a pane outdoors the sky on both: neither gets a portal. The
 portal covers the patch's rectangle and faces the scene (an Area light shines along
 its local −Z). A scene that has portals of its own gets none made; the bake's
@@ -37,8 +38,10 @@ MIN_AREA = 0.05
 #: :data:`PLANE_TOLERANCE` metres.
 NORMAL_TOLERANCE = 0.05
 PLANE_TOLERANCE = 0.05
-#: Rays from a window's centre start this far off its plane (m).
+#: Rays from a window's points start this far off its plane (m).
 RAY_OFFSET = 0.01
+#: Points per side of the grid over a window whose rays find the world's side.
+SIDE_GRID = 4
 #: Name of the temporary portals.
 PORTAL_NAME = "LF_Portal"
 
@@ -118,6 +121,24 @@ def _escapes(scene, depsgraph, origin, direction):
     return not hit
 
 
+def _sky_side(scene, depsgraph, centre, u, v, size, n):
+    """+1 where the world is along ``n`` and the scene along ``-n``, -1 the other way
+    round, 0 neither: rays from a :data:`SIDE_GRID`² grid of points over the rectangle
+    (a mullion or a muntin in front of some of them does not decide), each point
+    counting where it sees the world on one side only; at least a quarter of them."""
+    k = (np.arange(SIDE_GRID) + 0.5) / SIDE_GRID - 0.5
+    votes = []
+    for a in k * size[0]:
+        for b in k * size[1]:
+            p = centre + a * u + b * v
+            out = [_escapes(scene, depsgraph, p + s * RAY_OFFSET * n, s * n) for s in (1.0, -1.0)]
+            if out[0] != out[1]:
+                votes.append(1 if out[0] else -1)
+    if 4 * len(votes) < SIDE_GRID ** 2:
+        return 0
+    return 1 if 2 * votes.count(1) > len(votes) else -1
+
+
 def _rectangle(normal, points):
     """Centre, in-plane axes (u, v) and sizes of the patch's rectangle (u horizontal
     where the patch is not)."""
@@ -149,11 +170,10 @@ def find_windows(scene, depsgraph, view_layer=None):
                 continue
             centre, u, v, size = _rectangle(normal, points)
             n = normal / np.linalg.norm(normal)
-            out = [_escapes(scene, depsgraph, centre + s * RAY_OFFSET * n, s * n)
-                   for s in (1.0, -1.0)]
-            if out[0] == out[1]:
+            side = _sky_side(scene, depsgraph, centre, u, v, size, n)
+            if side == 0:
                 continue                       # the world on both sides, or on neither
-            inward = -n if out[0] else n
+            inward = -side * n
             z = -inward                        # an Area light shines along its local -Z
             x = u
             y = np.cross(z, x)
