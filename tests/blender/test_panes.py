@@ -138,3 +138,63 @@ def test_without_portals_the_glass_is_left_alone(window_room, lf, monkeypatch):
     assert calls == []
     _floor_maps(lf, bpy.data.objects["Floor"], seeds=(1,), portals=True)
     assert calls == ["Glass"]
+
+
+def _bulb_room(kind="sphere"):
+    """A 4 m floor under a 60 W point lamp 1.5 m up inside a 6 cm Glass BSDF sphere, or
+    inside a glass cylinder open at the bottom (``kind="open"``)."""
+    bpy.ops.mesh.primitive_plane_add(size=4.0)
+    floor = bpy.context.active_object
+    floor.name = "Floor"
+    light = bpy.data.lights.new("Bulb", "POINT")
+    light.energy, light.shadow_soft_size = 60.0, 0.02
+    lamp = bpy.data.objects.new("Bulb", light)
+    lamp.location = (0.0, 0.0, 1.5)
+    bpy.context.scene.collection.objects.link(lamp)
+    if kind == "sphere":
+        bpy.ops.mesh.primitive_uv_sphere_add(radius=0.06, location=(0.0, 0.0, 1.5))
+    else:
+        bpy.ops.mesh.primitive_cylinder_add(radius=0.1, depth=0.3, location=(0.0, 0.0, 1.5),
+                                            end_fill_type="NOTHING")
+    shell = bpy.context.active_object
+    shell.name = "Shell"
+    material = _material("Bulb Glass", "WALL")
+    _glass(material, "glass")
+    shell.data.materials.append(material)
+    bpy.context.view_layer.update()
+    return floor, shell, material
+
+
+def _floor_mean(lf, floor):
+    notes = []
+    settings = BakeSettings(resolution=32, samples=16, margin=2, denoise=False, seed=1)
+    result = bake_exposure(bpy.context.scene, [floor], settings, report=notes.append,
+                           progress=lambda f, m: None)
+    return float(np.mean(lf.pixels(next(iter(result["maps"]["Floor"].values()))))), notes
+
+
+def test_a_lamp_in_a_glass_bulb_lights_the_room_through_it(blender, lf):
+    """Light leaves a closed glass bulb only by refracting (caustics): the default bake
+    read 0.35 of the bare lamp. The glass is a clear pane for the lamp's bake: the floor
+    gets the bare lamp's light times the glass's 0.92, and the glass comes back."""
+    floor, shell, material = _bulb_room()
+    before = exact_tree(material.node_tree)
+    bulb, notes = _floor_mean(lf, floor)
+    shell.hide_render = True
+    bare, _ = _floor_mean(lf, floor)
+    assert bulb == pytest.approx(transmittance(1.5) * bare, rel=0.02)
+    assert any('"Bulb" in "Bulb Glass"' in n for n in notes)
+    assert exact_tree(material.node_tree) == before
+
+
+def test_an_open_glass_shade_is_left_alone(blender, lf, monkeypatch):
+    """Light leaves an open shade straight through its opening: Cycles samples that, and
+    the glass stays glass (a plain bake's count)."""
+    from lightfade_addon.blender.bake import panes
+
+    floor, _shell, _material_ = _bulb_room("open")
+    calls = []
+    real = panes._clear
+    monkeypatch.setattr(panes, "_clear", lambda *a: calls.append(a[1].name) or real(*a))
+    _mean, notes = _floor_mean(lf, floor)
+    assert calls == [] and not any("closed in glass" in n for n in notes)

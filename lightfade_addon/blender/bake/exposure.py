@@ -124,6 +124,10 @@ class ExposureBake:
                 if note:
                     self.notes.append(note)
                     self.report(note)
+        note = _panes.lamps_note(scene, depsgraph, self.groups)
+        if note:
+            self.notes.append(note)
+            self.report(note)
         self.steps = []
         for group in self.groups:
             names = set(group.member_names)
@@ -209,6 +213,8 @@ class ExposureBake:
             if bakes_sky(step.group):
                 _portals.add_portals(inner, self.scene, self.windows)
                 _panes.clear_panes(inner, self.windows)
+            else:
+                _panes.clear_lamp_panes(inner, self.scene, step.group)
             images = {}
             for obj in step.objects:
                 image = self.state.new_image(f"{obj.name}_{step.group.name}", self.sizes[obj.name])
