@@ -78,9 +78,10 @@ def _upstream(tree):
 
 
 def refracts(material):
-    """The node of ``material`` that refracts where shadow rays stop at it, else None."""
+    """The node of ``material`` that refracts where shadow rays stop at it, else None
+    (also for a material linked from a library, which LightFade cannot show otherwise)."""
     tree = material.node_tree if material is not None else None
-    if tree is None:
+    if tree is None or material.library is not None:
         return None
     nodes = _upstream(tree)
     if any(n.type in {"BSDF_TRANSPARENT", "LIGHT_PATH"} for n in nodes):
