@@ -58,6 +58,23 @@ def top_view(values, objects, n=256):
     return out
 
 
+def save(fig, path):
+    """Lay ``fig`` out, write it to ``path`` and close it."""
+    from matplotlib import pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def figure_parser(doc):
+    """The command line of a figure script: ``--out`` and ``--density``."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("--out", default=str(DOCS_IMG))
+    parser.add_argument("--density", type=float, default=64.0, help="texels per metre")
+    return parser
+
+
 def _corners(obj):
     return np.array([obj.matrix_world @ v.co for v in obj.data.vertices])
 
@@ -106,9 +123,7 @@ def make(out, density=64.0, samples=16):
         ax.set_xlabel("x (m)   window: south wall, y = -2", fontsize=7)
         ax.tick_params(labelsize=6)
     fig.suptitle("Floor and rug dose, each scaled to its peak", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out / "daylight_static_vs_annual.png")
-    plt.close(fig)
+    save(fig, out / "daylight_static_vs_annual.png")
 
     fig, axes = plt.subplots(1, 2, figsize=(8.4, 4.6), dpi=110)
     for ax, mode in zip(axes, ("DOSE", "YEARS")):
@@ -126,16 +141,12 @@ def make(out, density=64.0, samples=16):
         legend = out / f"daylight_legend_{mode.lower()}.png"
         colours.write_legend(str(legend), scale, "grey: no visible fade within "
                              f"{HORIZON_YEARS:g} years" if mode == "YEARS" else "grey: no light")
-    fig.tight_layout()
-    fig.savefig(out / "daylight_dose_view.png")
-    plt.close(fig)
+    save(fig, out / "daylight_dose_view.png")
     return out
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=str(DOCS_IMG))
-    parser.add_argument("--density", type=float, default=64.0, help="texels per metre")
+    parser = figure_parser(__doc__)
     parser.add_argument("--samples", type=int, default=16)
     args = parser.parse_args(argv)
     print(make(args.out, args.density, args.samples))

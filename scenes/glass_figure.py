@@ -14,7 +14,6 @@ Run ``python -m scenes.glass_figure [--out docs/img] [--density 64]`` (under a m
 
 from __future__ import annotations
 
-import argparse
 from pathlib import Path
 
 import bpy
@@ -22,7 +21,7 @@ import addon_utils  # Blender's module: importable once bpy is
 import numpy as np
 
 from . import daylight_room as R
-from .daylight_figures import DOCS_IMG, top_view
+from .daylight_figures import figure_parser, save, top_view
 from .meshes import mesh_from_quads
 
 
@@ -82,17 +81,12 @@ def make(out, density=64.0):
         ax.tick_params(labelsize=6)
     fig.suptitle("Floor and rug dose under the year's daylight at 52° N, default quality "
                  "(8 samples, denoised), one scale", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(out / "glass_window.png")
-    plt.close(fig)
+    save(fig, out / "glass_window.png")
     return out
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", default=str(DOCS_IMG))
-    parser.add_argument("--density", type=float, default=64.0, help="texels per metre")
-    args = parser.parse_args(argv)
+    args = figure_parser(__doc__).parse_args(argv)
     print(make(args.out, args.density))
 
 
