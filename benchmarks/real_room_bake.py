@@ -206,8 +206,8 @@ def main():
     parser.add_argument("--samples", type=int, default=64)
     parser.add_argument("--reference", type=int, default=256)
     parser.add_argument("--reference-seeds", type=int, default=2,
-                        help="reference bakes with seeds 1, 2...: the first is the reference, "
-                             "the others measure its own noise (the floor)")
+                        help="reference bakes, seeds after the default's: the first is the "
+                             "reference, the others measure its own noise (the floor)")
     parser.add_argument("--sky-width", type=int, help="annual sky map width (default: the scene's)")
     parser.add_argument("--radius", type=float, default=0.06, help="3D neighbourhood, m")
     parser.add_argument("--save-maps", help="write each map as a PNG into this directory")
