@@ -13,6 +13,7 @@ import pytest
 
 from lightfade_addon.blender.bake import BakeSettings, bake_exposure
 from lightfade_addon.blender.bake.panes import PANE_PREFIX, pane_colour, refracts, transmittance
+from lightfade_addon.blender.bake.portals import clear_slots
 
 from tests.blender.test_bake_surface import exact_tree
 from tests.blender.test_portals import _material, _plane, window_room  # noqa: F401 (a fixture)
@@ -69,6 +70,20 @@ def test_which_materials_refract(blender):
     loose.node_tree.nodes.new("ShaderNodeBsdfGlass")
     assert refracts(loose) is None
     assert transmittance(1.5) == pytest.approx(0.9216)
+    # an asset's glass wrapped in a node group
+    group = bpy.data.node_groups.new("Glass Shader", "ShaderNodeTree")
+    group.interface.new_socket("Shader", in_out="OUTPUT", socket_type="NodeSocketShader")
+    inner = group.nodes.new("ShaderNodeBsdfGlass")
+    inner.inputs["IOR"].default_value = 1.45
+    group.links.new(inner.outputs[0], group.nodes.new("NodeGroupOutput").inputs[0])
+    wrapped = _material("Wrapped", "WALL")
+    node = wrapped.node_tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = group
+    wrapped.node_tree.links.new(node.outputs[0],
+                                wrapped.node_tree.nodes["Material Output"].inputs["Surface"])
+    assert refracts(wrapped) == inner
+    assert clear_slots(_plane("Wrapped Pane", 1.0, (0, 0, 0), (0, 0, 0), wrapped)) == [0]
+    assert pane_colour(inner) == pytest.approx((transmittance(1.45),) * 3, abs=1e-6)
 
 
 def _floor_maps(lf, floor, targets=None, seeds=(1, 2), portals=True):

@@ -63,7 +63,8 @@ def _alpha_cut(node):
 
 def _upstream(tree):
     """The user's unmuted nodes feeding the surface of the output Cycles uses (through
-    the bake's probe, :mod:`.surface`, where the material is baked)."""
+    the bake's probe, :mod:`.surface`, where the material is baked), and every node
+    inside the node groups among them (an asset's glass is often a group)."""
     out = tree.get_output_node("CYCLES")
     todo = [out.inputs["Surface"]] if out is not None else []
     seen = {}
@@ -74,7 +75,17 @@ def _upstream(tree):
                 continue
             seen[node.as_pointer()] = node
             todo.extend(node.inputs)
-    return [n for n in seen.values() if not n.name.startswith(PROBE_PREFIX)]
+    nodes = [n for n in seen.values() if not n.name.startswith(PROBE_PREFIX)]
+    return nodes + [inner for n in nodes for inner in _inside(n)]
+
+
+def _inside(node, depth=0):
+    """The unmuted nodes inside a node group (nested groups too), where ``node`` is one."""
+    tree = getattr(node, "node_tree", None) if node.type == "GROUP" else None
+    if tree is None or depth > 8:
+        return []
+    nodes = [n for n in tree.nodes if not n.mute]
+    return nodes + [inner for n in nodes for inner in _inside(n, depth + 1)]
 
 
 def refracts(material):

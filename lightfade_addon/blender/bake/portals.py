@@ -59,11 +59,20 @@ class Window:
     material: str
 
 
+def _nodes(tree, depth=0):
+    """The nodes of ``tree`` and of the node groups in it (nested too)."""
+    for node in tree.nodes:
+        yield node
+        inner = getattr(node, "node_tree", None) if node.type == "GROUP" else None
+        if inner is not None and depth < 8:
+            yield from _nodes(inner, depth + 1)
+
+
 def _lets_light_through(material):
     tree = material.node_tree if material is not None else None
     if tree is None:
         return False
-    for node in tree.nodes:
+    for node in _nodes(tree):
         if node.type in _CLEAR_NODES:
             return True
         if node.type == "BSDF_PRINCIPLED":
