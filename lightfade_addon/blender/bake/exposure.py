@@ -90,10 +90,7 @@ class ExposureBake:
         for msg in warnings:
             self._warn(msg)
         emitters = find_emitters(scene, layer)
-        uncounted = uncounted_note(uncounted_emissive(scene, layer))
-        if uncounted:
-            self.notes.append(uncounted)
-            self.report(uncounted)
+        self._note(uncounted_note(uncounted_emissive(scene, layer)))
         if any(e.kind == "DAYLIGHT" for e in emitters) and _daylight.problem(scene):
             problems.append(_daylight.problem(scene))
         if not emitters:
@@ -117,17 +114,7 @@ class ExposureBake:
         self.targets = targets
         self.emitters = emitters
         self.groups = group_emitters(scene, emitters)
-        self.windows = []
-        if self.settings.portals and any(bakes_sky(g) for g in self.groups):
-            self.windows = _portals.find_windows(scene, depsgraph, layer)
-            for note in (_portals.windows_note(self.windows), _panes.panes_note(self.windows)):
-                if note:
-                    self.notes.append(note)
-                    self.report(note)
-        note = _panes.lamps_note(scene, depsgraph, self.groups)
-        if note:
-            self.notes.append(note)
-            self.report(note)
+        self._plan_glass(scene, depsgraph, layer)
         self.steps = []
         for group in self.groups:
             names = set(group.member_names)
@@ -139,6 +126,28 @@ class ExposureBake:
         self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
                      for s in self.steps]
         return self
+
+    def _plan_glass(self, scene, depsgraph, layer):
+        """Windows (a portal over each while the sky is baked) and the refracting glass
+        each group's bake shows as clear panes (:mod:`.portals`, :mod:`.panes`)."""
+        self.windows = []
+        if self.settings.portals and any(bakes_sky(g) for g in self.groups):
+            self.windows = _portals.find_windows(scene, depsgraph, layer)
+        windows = _panes.window_panes(self.windows)
+        lamps = {g.name: _panes.lamp_panes(scene, depsgraph, g)
+                 for g in self.groups if not bakes_sky(g)}
+        self.panes = {g.name: windows if bakes_sky(g) else
+                      [(m, rgb) for m, rgb, _lamp in lamps[g.name].values()]
+                      for g in self.groups}
+        for note in (_portals.windows_note(self.windows), _panes.panes_note(windows),
+                     _panes.lamps_note(lamps.values())):
+            self._note(note)
+
+    def _note(self, note):
+        """Keep ``note`` for the result and report it (nothing for '')."""
+        if note:
+            self.notes.append(note)
+            self.report(note)
 
     def _reusable(self, obj, group):
         """Existing maps of ``obj`` holding exactly ``group``'s emitters (only_changed)."""
@@ -179,8 +188,7 @@ class ExposureBake:
             plan = self.uv_plans[obj.name]
             if plan.make:
                 make_unique_uv(obj, self.view_layer, self.sizes[obj.name])
-                self.notes.append(plan.note)
-                self.report(plan.note)
+                self._note(plan.note)
                 depsgraph.update()
             layers = obj.data.uv_layers
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
@@ -212,9 +220,7 @@ class ExposureBake:
             isolate(inner, self.scene, step.group)
             if bakes_sky(step.group):
                 _portals.add_portals(inner, self.scene, self.windows)
-                _panes.clear_panes(inner, self.windows)
-            else:
-                _panes.clear_lamp_panes(inner, self.scene, step.group)
+            _panes.clear(inner, self.panes[step.group.name])
             images = {}
             for obj in step.objects:
                 image = self.state.new_image(f"{obj.name}_{step.group.name}", self.sizes[obj.name])

@@ -88,6 +88,17 @@ def _inside(node, depth=0):
     return nodes + [inner for n in nodes for inner in _inside(n, depth + 1)]
 
 
+def lets_light_through(material):
+    """Light passes ``material`` (a window's glass): the shader feeding its output
+    refracts or is transparent (a Glass, Refraction or Transparent BSDF, a Principled
+    BSDF with transmission above 0.5 or alpha below 0.5)."""
+    tree = material.node_tree if material is not None else None
+    return tree is not None and any(
+        n.type in _REFRACTING or n.type == "BSDF_TRANSPARENT" or (
+            n.type == "BSDF_PRINCIPLED" and (_transmission(n) or _alpha_cut(n)))
+        for n in _upstream(tree))
+
+
 def refracts(material):
     """The node of ``material`` that refracts where shadow rays stop at it, else None
     (also for a material linked from a library, which LightFade cannot show otherwise)."""
@@ -127,7 +138,7 @@ def pane_colour(node):
     return tuple(t * min(max(float(c), 0.0), 1.0) for c in tint[:3])
 
 
-def _pane_materials(windows):
+def window_panes(windows):
     """The distinct refracting materials of ``windows``: ``[(material, rgb)]``."""
     found = {}
     for window in windows:
@@ -141,14 +152,10 @@ def _pane_materials(windows):
     return list(found.values())
 
 
-def clear_panes(state, windows):
-    """Show each refracting window material as a clear pane (undone by ``state``);
-    returns the materials changed."""
-    changed = []
-    for material, rgb in _pane_materials(windows):
+def clear(state, panes):
+    """Show each ``(material, rgb)`` of ``panes`` as a clear pane (undone by ``state``)."""
+    for material, rgb in panes:
         _clear(state, material, rgb)
-        changed.append(material)
-    return changed
 
 
 def _clear(state, material, rgb):
@@ -221,41 +228,35 @@ def _enclosing(scene, depsgraph, lamp):
 
 def lamp_panes(scene, depsgraph, group):
     """Refracting materials that close a lamp of ``group`` in (a glass bulb, a closed
-    glass shade): ``[(lamp name, material, rgb)]``.  Light leaves such a lamp only by
-    refracting, which light sampling cannot follow: at the default quality a lamp in a
-    6 cm glass sphere lit the floor below at 0.35 of the bare lamp (the raw bake at 256
-    samples at 1.7: caustics), so the glass is a clear pane for its group's bake too."""
-    out = []
+    glass shade): ``{material name: (material, rgb, lamp name)}``.  Light leaves such a
+    lamp only by refracting, which light sampling cannot follow: at the default quality
+    a lamp in a 6 cm glass sphere lit the floor below at 0.35 of the bare lamp (the raw
+    bake at 256 samples at 1.7: caustics), so the glass is a clear pane for its group's
+    bake too."""
+    out = {}
     for emitter in group.emitters:
         if emitter.kind not in ("POINT", "SPOT", "AREA") or emitter.obj is None:
             continue
         for material, node in _enclosing(scene, depsgraph, emitter.obj):
-            if all(m != material for _n, m, _c in out):
-                out.append((emitter.name, material, pane_colour(node)))
+            out.setdefault(material.name, (material, pane_colour(node), emitter.name))
     return out
 
 
-def clear_lamp_panes(state, scene, group):
-    """:func:`lamp_panes` shown as clear panes (undone by ``state``)."""
-    depsgraph = bpy.context.evaluated_depsgraph_get()
-    for _lamp, material, rgb in lamp_panes(scene, depsgraph, group):
-        _clear(state, material, rgb)
-
-
-def lamps_note(scene, depsgraph, groups):
-    """One line naming the lamps closed in refracting glass, or ''."""
-    found = [(lamp, m) for g in groups for lamp, m, _rgb in lamp_panes(scene, depsgraph, g)]
-    if not found:
+def lamps_note(found):
+    """One line naming the lamps closed in refracting glass (:func:`lamp_panes` of each
+    group), or ''."""
+    names = sorted({f'"{lamp}" in "{m.name}"' for panes in found
+                    for m, _rgb, lamp in panes.values()})
+    if not names:
         return ""
-    names = ", ".join(sorted({f'"{lamp}" in "{m.name}"' for lamp, m in found}))
-    return (f"Lamp(s) closed in glass that refracts ({names}): their light leaves only by "
-            "refracting, which Cycles' shadow rays do not follow; the glass is a clear pane "
-            "while their group is baked")
+    return (f"Lamp(s) closed in glass that refracts ({', '.join(names)}): their light leaves "
+            "only by refracting, which Cycles' shadow rays do not follow; the glass is a clear "
+            "pane while their group is baked")
 
 
-def panes_note(windows):
-    """One line for the bake report naming the refracting panes, or ''."""
-    panes = _pane_materials(windows)
+def panes_note(panes):
+    """One line for the bake report naming the refracting window panes
+    (:func:`window_panes`), or ''."""
     if not panes:
         return ""
     names = ", ".join(sorted(f'"{m.name}"' for m, _rgb in panes))

@@ -11,7 +11,8 @@ change, only its noise.
 
 A **window** here is a flat patch of a mesh whose material lets light through (a
 Glass, Transparent or Refraction BSDF, or a Principled BSDF with transmission or
-alpha; :func:`clear_slots`), at least :data:`MIN_AREA`, with the world on one side and
+alpha, feeding its output, node groups included; :func:`.panes.lets_light_through`),
+at least :data:`MIN_AREA`, with the world on one side and
 the scene on the other: rays from points over it escape along one normal and hit
 something along the other (:func:`find_windows`; a mullion in front of some points
 does not decide). A glass vase inside a room has the
@@ -30,6 +31,7 @@ import numpy as np
 from mathutils import Matrix, Vector
 
 from .emitters import is_portal
+from .panes import lets_light_through
 from .uvmaps import evaluated_mesh
 
 #: Smallest window (m²) that gets a portal.
@@ -45,9 +47,6 @@ SIDE_GRID = 4
 #: Name of the temporary portals.
 PORTAL_NAME = "LF_Portal"
 
-_CLEAR_NODES = {"BSDF_GLASS", "BSDF_TRANSPARENT", "BSDF_REFRACTION"}
-
-
 @dataclass(frozen=True)
 class Window:
     """A portal to make: world-space ``matrix`` (its −Z into the scene), ``size`` (x, y)
@@ -59,34 +58,9 @@ class Window:
     material: str
 
 
-def _nodes(tree, depth=0):
-    """The nodes of ``tree`` and of the node groups in it (nested too)."""
-    for node in tree.nodes:
-        yield node
-        inner = getattr(node, "node_tree", None) if node.type == "GROUP" else None
-        if inner is not None and depth < 8:
-            yield from _nodes(inner, depth + 1)
-
-
-def _lets_light_through(material):
-    tree = material.node_tree if material is not None else None
-    if tree is None:
-        return False
-    for node in _nodes(tree):
-        if node.type in _CLEAR_NODES:
-            return True
-        if node.type == "BSDF_PRINCIPLED":
-            alpha = node.inputs.get("Alpha")
-            weight = node.inputs.get("Transmission Weight") or node.inputs.get("Transmission")
-            if (alpha is not None and not alpha.is_linked and alpha.default_value < 0.5) or (
-                    weight is not None and not weight.is_linked and weight.default_value > 0.5):
-                return True
-    return False
-
-
 def clear_slots(obj):
     """Indices of ``obj``'s material slots whose material lets light through."""
-    return [i for i, slot in enumerate(obj.material_slots) if _lets_light_through(slot.material)]
+    return [i for i, slot in enumerate(obj.material_slots) if lets_light_through(slot.material)]
 
 
 def _patches(obj, depsgraph, slots):
