@@ -5,6 +5,7 @@ Usage (from the repository root; about 3 minutes on 2 cores, ``--quick`` under o
     python benchmarks/shades.py [--quick]
     python benchmarks/shades.py --timing     # the cost only, each bake twice, alternated
     python benchmarks/shades.py --seeds      # rug and poster, same seed as a plain bake
+    python benchmarks/shades.py --draws 5    # the default bake at seeds 0-4: its spread
 
 A 4 × 4 m room (floor, two walls, ceiling, a sofa), a rug on the floor and a poster on the
 wall, lit by three light groups:
@@ -238,6 +239,9 @@ def main():
     parser.add_argument("--seeds", action="store_true",
                         help="rug and poster at 64 samples, 64², undenoised, against a plain "
                              "bake with the same seed (1 and 2): bias apart from noise")
+    parser.add_argument("--draws", type=int, default=1,
+                        help="LightFade's default bake at seeds 0 ... N-1 against the one "
+                             "reference: each seed's difference, their mean and spread")
     parser.add_argument("--timing", action="store_true",
                         help="only the cost: LightFade and the plain bake, alternated twice")
     args = parser.parse_args()
@@ -266,13 +270,24 @@ def main():
               f"CPU; plain {cost[1, 0]:.1f} s wall, {cost[1, 1]:.1f} s CPU; LightFade / plain: "
               f"wall {cost[0, 0] / cost[1, 0]:.2f}, CPU {cost[0, 1] / cost[1, 1]:.2f}")
         return
+    def means(maps):  # read at once: the next bake writes into the same images
+        return {(g, n): pixels(image)[..., 0].mean() for n in RECEIVERS
+                for g, image in maps[n].items()}
+
+    draws = []
+    for seed in range(1, max(args.draws, 1)):
+        settings.seed = seed
+        draws.append(means(bake_exposure(scene, targets, settings, **quiet)["maps"]))
+    settings.seed = 0
     result, lf_wall, lf_cpu = timed(lambda: bake_exposure(scene, targets, settings, **quiet))
+    draws.insert(0, means(result["maps"]))
     _, pl_wall, pl_cpu = timed(lambda: plain_bake(job, settings.samples, 0.0))
     ref = plain_bake(job, ref_samples, 0.0, RECEIVERS, REF_SIZE)
     clamped = plain_bake(job, ref_samples // 4, 10.0, RECEIVERS, REF_SIZE)
     print(f"{'group':<22}{'object':<12}{'LightFade':>11}{'plain ref':>11}{'LF/ref':>9}"
           f"{'blocks max':>12}{'clamp 10/ref':>14}")
     worst = 0.0
+    spread = []
     for group, by_obj in ref.items():
         for name in RECEIVERS:
             lf = pixels(result["maps"][name][group])[..., 0]
@@ -281,10 +296,17 @@ def main():
             bl, br = blocks(lf), blocks(r)  # 8 × 8 blocks of either size
             lit = br > 0.1 * r.mean()
             block = np.max(np.abs(bl[lit] / br[lit] - 1.0)) if lit.any() else 0.0
-            if name in RECEIVERS:
-                worst = max(worst, abs(ratio - 1.0))
+            worst = max(worst, abs(ratio - 1.0))
             print(f"{group:<22}{name:<12}{lf.mean():>11.1f}{r.mean():>11.1f}{ratio - 1:>+9.2%}"
                   f"{block:>12.1%}{c.mean() / r.mean() - 1:>+14.2%}")
+            spread.append((group, name, [d[group, name] / r.mean() - 1.0 for d in draws]))
+    if len(draws) > 1:
+        print(f"\nLightFade against the reference at seeds 0-{len(draws) - 1} (one seed is "
+              "one draw of the noise):")
+        for group, name, d in spread:
+            d = np.array(d)
+            print(f"{group:<22}{name:<12}" + " ".join(f"{x:+7.2%}" for x in d)
+                  + f"   mean {d.mean():+.2%}, sd {d.std(ddof=1):.2%}")
     print(f"worst floor/rug/poster mean: {worst:.2%} (target <= 2 %)")
     print(f"{'bake':<34}{'wall s':>8}{'CPU s':>8}")
     print(f"{'LightFade (Final, denoised)':<34}{lf_wall:>8.1f}{lf_cpu:>8.1f}")
