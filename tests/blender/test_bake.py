@@ -631,6 +631,22 @@ class TestSettings:
         assert est.seconds > 0 and "s" in est.text()
 
 
+def test_calibration_does_not_time_the_first_bake():
+    """A fresh scene's first bake also prepares what later bakes reuse (the sky map,
+    Cycles' kernels): timed, it made the rate look many times too fast."""
+    from lightfade_addon.blender.bake import sizing
+
+    now, sizes = [0.0], []
+
+    def run(size, samples):  # 0.1 s a call, 2 µs a texel-sample, 0.5 s more the first time
+        now[0] += (0.0 if sizes else 0.5) + 0.1 + size * size * samples * 2e-6
+        sizes.append((size, samples))
+
+    rate, overhead = sizing.calibrate(run, clock=lambda: now[0])
+    assert sizes == [sizing.WARM_UP, *sizing.TIMED]
+    assert rate == pytest.approx(5e5) and overhead == pytest.approx(0.1)
+
+
 def test_api_bake_sets_quality_density_and_custom_samples(floor_scene):
     """``api.bake`` stores its overrides in the scene, so the file remembers how it was baked."""
     from lightfade_addon import api
