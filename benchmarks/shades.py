@@ -270,6 +270,7 @@ def main():
               f"CPU; plain {cost[1, 0]:.1f} s wall, {cost[1, 1]:.1f} s CPU; LightFade / plain: "
               f"wall {cost[0, 0] / cost[1, 0]:.2f}, CPU {cost[0, 1] / cost[1, 1]:.2f}")
         return
+
     def means(maps):  # read at once: the next bake writes into the same images
         return {(g, n): pixels(image)[..., 0].mean() for n in RECEIVERS
                 for g, image in maps[n].items()}

@@ -17,7 +17,7 @@ Modules, one job each:
 ``portals``  temporary light portals over windows while the sky is baked
 ``panes``    refracting window glass shown as a clear pane while the sky is baked
 ``exposure`` the bake loop (one Cycles call per group), :func:`bake_exposure`
-``calibration`` two tiny bakes that give the estimate its rate
+``calibration`` tiny bakes that give the estimate its rate
 ``maps``     storing maps; reading them back for aging; signature; removal
 ``panel``    the Exposure Bake panel's contents
 """

@@ -1,4 +1,5 @@
-"""Calibration: time two tiny bakes on the scene to estimate how long a bake will take."""
+"""Calibration: time tiny bakes on the scene (the first untimed) to estimate how long a
+bake will take."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ from .targets import attach_targets, check_bake_result
 
 
 def calibrate(context_or_scene, obj=None):
-    """Time two tiny bakes of one target on this scene; store and return the rate.
+    """Time tiny bakes of one target on this scene (:func:`.sizing.calibrate`); store and
+    return the rate.
 
     Returns ``(texel-samples per second, seconds per call)``; :func:`.sizing.estimate`
     uses it for this scene.

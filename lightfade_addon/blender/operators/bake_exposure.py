@@ -136,7 +136,7 @@ selected, every mesh whose material has LightFade enabled).  Esc cancels"""
 
 
 class LIGHTFADE_OT_bake_calibrate(bpy.types.Operator):
-    """Time two tiny bakes on this scene to estimate how long the exposure bake takes"""
+    """Time tiny bakes on this scene to estimate how long the exposure bake takes"""
 
     bl_idname = "lightfade.bake_calibrate"
     bl_label = "Calibrate"
