@@ -197,11 +197,10 @@ def _clear(state, material, rgb):
             "for the sky's bake; turn Portals over Windows off, or report this with the file")
 
 
-def _directions():
-    """The 26 directions to the faces, edges and corners of a cube (unit vectors)."""
-    d = [(x, y, z) for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1)
-         if (x, y, z) != (0, 0, 0)]
-    return [Vector(v).normalized() for v in d]
+#: The 26 directions to the faces, edges and corners of a cube (unit vectors): the rays
+#: that tell whether a lamp is closed in.
+_DIRECTIONS = tuple(Vector((x, y, z)).normalized() for x in (-1, 0, 1) for y in (-1, 0, 1)
+                    for z in (-1, 0, 1) if (x, y, z) != (0, 0, 0))
 
 
 def _enclosing(scene, depsgraph, lamp):
@@ -210,7 +209,7 @@ def _enclosing(scene, depsgraph, lamp):
     refract, those (``[(material, node)]``); else []."""
     origin = lamp.matrix_world.translation
     found = []
-    for direction in _directions():
+    for direction in _DIRECTIONS:
         hit, _loc, _normal, index, obj, _matrix = scene.ray_cast(
             depsgraph, origin, direction, distance=ENCLOSURE)
         if not hit:
