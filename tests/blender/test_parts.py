@@ -481,3 +481,47 @@ def test_removing_a_copy_of_an_aged_copy_keeps_the_aged_copys_parts(sofa):
     assert all(lane.weight_image is not None for lane in copy.lightfade.lanes)
     np.testing.assert_array_equal(_twin(material, 20.0), before)
     assert api.material_plan(scene)[0]["status"] == "aged"
+
+
+def _full_mask(name="PaintMask"):
+    """White everywhere."""
+    image = bpy.data.images.new(name, N, N)
+    image.pixels.foreach_set(np.ones(N * N * 4, np.float32))
+    image.pack()
+    return image
+
+
+def test_overlapping_masks_share_each_texel_out(sofa):
+    """Two parts whose masks both cover the left half: each gets half of it (the weights
+    sum to one), so the texel is the mean of the two recipes' aging there, never aged
+    twice (no channel above 1); the node group (Cycles) and the numpy twin agree."""
+    from lightfade_addon import api
+
+    material = sofa["material"]
+    api.set_parts(material, [dict(name="Frame", recipe="BARE_WOOD", image=_half_mask()),
+                             dict(name="Paint", recipe="PRINTED_PAPER", image=_full_mask())])
+    wood = _alone(material, "BARE_WOOD", 30.0)
+    paper = _alone(material, "PRINTED_PAPER", 30.0)
+    _age(30.0)
+    twin = _twin(material, 30.0)
+    np.testing.assert_allclose(twin[LEFT], 0.5 * (wood[LEFT] + paper[LEFT]), atol=2e-6)
+    np.testing.assert_allclose(twin[RIGHT], paper[RIGHT], atol=2e-6)
+    nodes = node_evaluation(_copy(material))
+    assert twin.max() <= 1.0 and nodes.max() <= 1.0
+    dE = delta_E_2000(lab(nodes[1:-1, 1:-1]), lab(twin[1:-1, 1:-1]))
+    assert np.percentile(dE, 99) <= 0.2 and dE.max() <= 0.5
+
+
+def test_the_numpy_mix_shares_overlapping_weights_out():
+    """Apply's mix: lanes' weights summing past one (two parts both claiming a texel) are
+    shared out, never a second aging on top of the first; below one the rest stays."""
+    from lightfade_addon.blender.aging.parts import mix_pixels
+
+    original = np.full((3, 3), 0.6, np.float32)
+    aged = [np.full((3, 3), 0.9, np.float32), np.full((3, 3), 0.95, np.float32)]
+    weights = np.array([[1.0, 0.7, 0.3], [1.0, 0.6, 0.2]], np.float32)
+    out = mix_pixels(original, aged, weights)
+    assert out.max() <= 1.0                            # 1.25 if both aged the texel in full
+    np.testing.assert_allclose(out[0], 0.925, atol=1e-6)              # half each
+    np.testing.assert_allclose(out[1], 0.6 + (0.7 * 0.3 + 0.6 * 0.35) / 1.3, atol=1e-6)
+    np.testing.assert_allclose(out[2], 0.6 + 0.3 * 0.3 + 0.2 * 0.35, atol=1e-6)   # as today

@@ -342,11 +342,20 @@ def bake_weights(scene, view_layer, copy, colour, shape):
 
 
 def mix_pixels(original, aged, weights):
-    """``original + Σ_k weights[k] · (aged[k] - original)`` on (N, 3) colours (the
-    shader's mix, in the same order); ``weights`` (K, N)."""
+    """``original + Σ_k W_k · (aged[k] - original)`` on (N, 3) colours (the shader's mix,
+    in the same order); ``weights`` (K, N) the lanes' weights as baked.
+
+    Where they sum past one they are shared out, ``W_k = w_k / max(Σ_k w_k, 1)``, as
+    the node group shares the masks: weights read back from images (baked in groups of
+    :data:`.mix.PER_IMAGE` lanes, filtered at the margins) must not age a texel more than
+    once, whatever their rounding. Where they sum to less, the remainder stays the
+    original (the mix group gives the rest's weight to its lane).
+    """
+    weights = np.asarray(weights, dtype=np.float32)
+    share = np.float32(1.0) / np.maximum(weights.sum(axis=0), np.float32(1.0))
     out = original.copy()
     for a, w in zip(aged, weights):
-        out += w[:, None] * (a - original)
+        out += (w * share)[:, None] * (a - original)
     return out
 
 
