@@ -9,7 +9,10 @@ disk cache, not built: one Age before the timings fills it) and the faster run i
 printed. With parts, Age finds each recipe's shared table and builds one aging group per
 recipe in use and the mixing group; nothing is done per texel (the parts' weights are
 baked with Cycles only when Apply to Images or an export first needs them: the second
-line times the first Apply after Age, that bake included).
+line times the first Apply after Age, that bake included). Last, two parts whose masks
+overlap (bare wood on the left half, printed paper everywhere) at 30 years: the node group
+(a Cycles bake of the copy's Base Color) against Apply's numpy twin, and the largest
+channel of each (never above 1: each texel is shared out, not aged twice).
 """
 
 from __future__ import annotations
@@ -80,6 +83,47 @@ def main():
     one, two = (min(applies[label]) for label in cases)
     print(f"First Apply to Images after Age: one recipe {one:.2f} s, two recipes by mask "
           f"{two:.2f} s, ratio {two / one:.2f}")
+    overlap(scene, material, mask)
+
+
+def overlap(scene, material, mask):
+    """Two overlapping parts at 30 years: node group against Apply, largest channels."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging.apply import aged_pixels
+    from lightfade_addon.blender.aging.copies import copies_of
+    from lightfade_addon.blender.aging.parts import colour_socket
+    from lightfade_addon.blender.albedo import bake_albedos
+    from lightfade_addon.core.colour.colorimetry import XYZ_to_Lab, delta_E_2000, \
+        linear_srgb_to_XYZ
+
+    # the bake samples each texel near its centre: Closest reads the texel itself, as the
+    # numpy twin does (Linear blends the random neighbours in)
+    material.node_tree.nodes["Image Texture"].interpolation = "Closest"
+    full = _image("Everywhere", np.ones((SIZE, SIZE, 4), np.float32))
+    api.set_parts(material, [dict(name="Frame", recipe="BARE_WOOD", image=mask),
+                             dict(name="Paint", recipe="PRINTED_PAPER", image=full)])
+    api.age_scene(scene, years=30)
+    (copy,) = copies_of(material)
+    twin = aged_pixels(scene, copy, 30.0)[..., :3]
+    image = bpy.data.images.new("NodeEvaluation", SIZE, SIZE, alpha=True, float_buffer=True)
+    image.colorspace_settings.name = "Linear Rec.709"
+    nodes = bake_albedos(scene, bpy.context.view_layer, copy.lightfade.aged_object,
+                         [(copy, colour_socket(copy), image)], copy.lightfade.uv_map,
+                         margin=0)[copy.name]
+    inner = np.s_[1:-1, 1:-1]                   # the bake samples the outer ring off-centre
+
+    def lab(rgb):
+        return XYZ_to_Lab(linear_srgb_to_XYZ(np.asarray(rgb, float).reshape(-1, 3)))
+
+    dE = delta_E_2000(lab(nodes[inner]), lab(twin[inner])).reshape(SIZE - 2, SIZE - 2)
+    edge = dE[:, SIZE // 2 - 3: SIZE // 2 + 1]          # the mask's edge (u = 0.5)
+    print(f"  (at the mask's edge, columns {SIZE // 2 - 2}-{SIZE // 2 + 1}: max "
+          f"{edge.max():.3f}; elsewhere max "
+          f"{np.delete(dE, np.s_[SIZE // 2 - 3: SIZE // 2 + 1], axis=1).max():.3f})")
+    print(f"Overlapping parts, 30 years: node group against Apply p99 "
+          f"{np.percentile(dE, 99):.3f}, max {dE.max():.3f} ΔE00; largest channel: node "
+          f"group {nodes[inner].max():.4f}, Apply {twin.max():.4f}")
+    api.reset(scene)
 
 
 if __name__ == "__main__":
