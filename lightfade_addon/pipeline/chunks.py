@@ -10,18 +10,23 @@ runs for minutes, not seconds (a task also pays Blender's start and the file's o
 
 from __future__ import annotations
 
-import math
-
 
 def chunk_count(seconds, target, overhead=0.0):
     """How many chunks share work of ``seconds`` (a list, per object) at ``target``
-    seconds per task, each task paying ``overhead`` seconds once: at least 1, at most one
-    per object."""
+    seconds per task, each task paying ``overhead`` seconds once: the chunks first-fit
+    decreasing packing needs (an object longer than a task is a chunk of its own): at
+    least 1, at most one per object."""
     if not seconds:
         return 0
-    total = float(sum(seconds))
     usable = max(float(target) - float(overhead), 1e-9)
-    return max(1, min(len(seconds), math.ceil(total / usable)))
+    bins = []
+    for s in sorted((float(x) for x in seconds), reverse=True):
+        k = next((i for i, load in enumerate(bins) if load + s <= usable), None)
+        if k is None:
+            bins.append(s)
+        else:
+            bins[k] += s
+    return max(1, len(bins))
 
 
 def split(names, seconds, count):
