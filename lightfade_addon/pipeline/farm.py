@@ -169,6 +169,15 @@ def _relative(path, folder):
     return None if rel.split(os.sep)[0] == os.pardir else rel
 
 
+def flamenco_settings(spec, scene, out):
+    """The settings of the Flamenco job type ``tools/flamenco/lightfade_farm.js``."""
+    return {"scene": scene, "plan": os.path.join(out, "plan.json"),
+            "groups": "\n".join(spec.groups), "chunks": spec.chunks,
+            "work_dir": os.path.join(out, spec.work), "output_dir": os.path.join(out, spec.output),
+            "stem": spec.stem, "years": spec.years or 0.0,
+            "frame_start": spec.frames[0], "frame_end": spec.frames[1]}
+
+
 def do_farm_job(path, args, say):
     path = os.path.abspath(path)
     sha = taskmaps.file_sha256(path)
@@ -201,6 +210,9 @@ def do_farm_job(path, args, say):
     target = write_text(os.path.join(out, "template.yaml"), openjd.to_yaml(template))
     write_text(os.path.join(out, "parameter_values.yaml"),
                openjd.to_yaml(openjd.parameter_values({"SceneFile": path})))
+    write_text(os.path.join(out, "plan.json"), spec.plan)
+    write_text(os.path.join(out, "flamenco_settings.json"),
+               json.dumps(flamenco_settings(spec, path, out), indent=1) + "\n")
     n = len(groups) * len(chunks)
     return (f"{plural(n, 'Bake task')} ({plural(len(groups), 'light group')} x "
             f"{plural(len(chunks), 'chunk')} of {plural(len(job.targets), 'object')}, "

@@ -355,3 +355,63 @@ def test_a_task_on_a_changed_scene_fails_in_one_line(blender, job, tmp_path, cap
     assert status == 1
     assert len(err) == 1 and "the scene file changed since the job was made" in err[0]
     assert list(tmp_path.glob("*.npz")) == []
+
+
+#: Flamenco's ``author`` and ``path`` for its job type's ``compileJob``: prints the tasks
+#: it makes as JSON (name, dependencies, command, arguments).
+FLAMENCO = r"""
+const fs = require("fs");
+const nodePath = require("path");
+global.path = { join: (...a) => nodePath.posix.join(...a) };
+const tasks = [];
+global.author = {
+  Task: (name, type) => ({ name, type, commands: [], deps: [],
+    addCommand(c) { this.commands.push(c); }, addDependency(d) { this.deps.push(d.name); } }),
+  Command: (name, params) => ({ name, params }),
+};
+eval(fs.readFileSync(process.argv[2], "utf8") + "\nglobal.compileJob = compileJob;");
+compileJob({ settings: JSON.parse(fs.readFileSync(process.argv[3], "utf8")),
+             addTask(t) { tasks.push(t); } });
+console.log(JSON.stringify(tasks.map((t) => ({ name: t.name, deps: t.deps,
+  command: t.commands[0].name, args: t.commands[0].params.args }))));
+"""
+
+
+def test_the_flamenco_job_type_runs_the_openjd_steps(job, tmp_path):
+    import shutil
+
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("no node to run the Flamenco job type with")
+    bundle = job.folder / "job"
+    harness = tmp_path / "harness.js"
+    harness.write_text(FLAMENCO)
+    proc = subprocess.run([node, str(harness), str(ROOT / "tools" / "flamenco" / "lightfade_farm.js"),
+                           str(bundle / "flamenco_settings.json")], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    tasks = {t["name"]: t for t in json.loads(proc.stdout)}
+    assert (bundle / "plan.json").read_text() == plan_of(bundle)
+    template = yaml.safe_load((bundle / "template.yaml").read_text())
+    steps = {s["name"]: s["script"]["actions"]["onRun"]["args"] for s in template["steps"]}
+    values = {"{{Param.SceneFile}}": str(job.scene), "{{Task.File.Plan}}": str(bundle / "plan.json"),
+              "{{Param.WorkDir}}": str(bundle / "work"), "{{Param.OutputDir}}": str(bundle / "output")}
+
+    def openjd(step, **task):
+        out = []
+        for arg in steps[step]:
+            for k, v in dict(values, **{f"{{{{Task.Param.{n}}}}}": str(x)
+                                        for n, x in task.items()}).items():
+                arg = arg.replace(k, v)
+            out.append(arg)
+        return out
+
+    bakes = [f"bake {g} {c}" for g in ("Sun", "Lamp") for c in (0, 1)]
+    assert sorted(tasks) == sorted(bakes + ["merge", "age", "render 1", "render 2"])
+    for name in bakes:
+        _, group, chunk = name.split()
+        assert tasks[name]["args"] == openjd("Bake", Group=group, Chunk=chunk)
+    assert sorted(tasks["merge"]["deps"]) == sorted(bakes)
+    assert tasks["merge"]["args"] == openjd("Merge")
+    assert tasks["age"]["args"] == openjd("Age") and tasks["age"]["deps"] == ["merge"]
+    assert tasks["render 2"]["deps"] == ["age"] and tasks["render 2"]["command"] == "blender-render"
+    assert "lightfade" not in tasks["render 2"]["args"]
