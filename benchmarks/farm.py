@@ -28,7 +28,7 @@ tasks against the one-machine bake (the cost of splitting: each task starts Blen
 opens the file and plans), the farm's wall time with one worker per task (the longest
 task plus Merge), and the merged maps against the one-machine maps (mean ratio; the
 largest difference of a texel).  Timings on a shared machine are noisy: the ratios in
-one run are the figures to quote.
+one run are the figures to quote; ``--scenes hall`` alone keeps other work off the cores.
 """
 
 from __future__ import annotations
@@ -188,7 +188,8 @@ def measure(name, blend, task_minutes, out):
             "tasks_sum": sum(measured), "merge": t_merge, "job": t_job, "one_machine": t_one,
             "farm_wall": max(measured) + t_merge, "maps": len(one),
             "mean_ratio_min": min(ratios), "mean_ratio_max": max(ratios), "max_diff": diff,
-            "same_keys": sorted(farm) == sorted(one)}
+            "same_keys": sorted(farm) == sorted(one),
+            "identical": sum(bool(np.array_equal(farm[k], one[k])) for k in one)}
 
 
 def report(rows, task_minutes):

@@ -42,8 +42,9 @@ from ..blender.targets import format_problems, material_problems
 #: Plan layout version: a task refuses a plan of another.
 PLAN_FORMAT = 1
 #: Seconds a task spends besides baking: Blender's start, opening the file, planning,
-#: the maps' write (4-6 s a task for a small file on this 2-core machine, the hall of
-#: benchmarks/farm.py; a farm's large files take longer to open): docs/farm.md.
+#: Cycles' scene build, the maps' write (~8 s a task for the generated hall of
+#: benchmarks/farm.py on this 2-core machine; a farm's large files take longer to
+#: open): docs/farm.md.
 TASK_OVERHEAD = 10.0
 
 

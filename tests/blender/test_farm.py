@@ -2,7 +2,7 @@
 ``openjd check`` validates it and ``openjd run`` runs every step on this machine, each
 task a process of its own; the merged maps and the time-lapse's frames are compared
 with a one-machine bake (``bake`` then ``render-years``) of the same scene.  A Bake task
-killed midway (at the rename of its maps) leaves nothing Merge takes, and its rerun
+killed midway (its maps written, not yet synced to disk) leaves nothing Merge takes, and its rerun
 writes the same maps; Merge refuses a missing or mismatched map in one line naming the
 task to rerun.
 
@@ -52,12 +52,12 @@ if argv[:2] == ["-c", "lightfade"]:
     from tests.blender.conftest import COARSE_GRID, COARSE_TABLE
     from lightfade_addon.blender.aging import data, runtime
     runtime.GRID_SETTINGS, data.TABLE_SETTINGS = COARSE_GRID, COARSE_TABLE
-    if os.environ.get("LIGHTFADE_TEST_HANG_AT_RENAME"):
+    if os.environ.get("LIGHTFADE_TEST_HANG_AT_SYNC"):
         from lightfade_addon.pipeline import taskmaps
-        def hang(src, dst):
-            print("test: maps written, renaming", flush=True)
+        def hang(fd):
+            print("test: maps written, syncing", flush=True)
             time.sleep(600)
-        taskmaps.os.replace = hang
+        taskmaps.os.fsync = hang
     caught = {{}}
     real = bpy.utils.register_cli_command
     def spy(command, execute):
@@ -155,14 +155,14 @@ def run_the_job(src, jobs, folder):
                    run(blender, "-c", "lightfade", "render-years", "ref/scene.blend", "--years",
                        "0", "25", "--output", "ref/renders")]
     r.scene_untouched = scene.stat().st_mtime_ns == before
-    # a Bake task killed once its maps are written, before their rename
+    # a Bake task killed once its maps are written, while they are synced to disk
     (folder / "plan.json").write_text(plan_of(folder / "job"))
     killed = folder / "killed"
     proc = subprocess.Popen([str(blender), "-c", "lightfade", "farm-bake", str(scene), "--plan",
                              str(folder / "plan.json"), "--group", "Sun", "--chunk", "0",
                              "--maps", str(killed / "maps")], cwd=folder, stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True,
-                            env=dict(env, LIGHTFADE_TEST_HANG_AT_RENAME="1"))
+                            env=dict(env, LIGHTFADE_TEST_HANG_AT_SYNC="1"))
     try:
         r.killed_said = None
         for line in iter(proc.stdout.readline, ""):    # "" once the process ended
@@ -275,7 +275,7 @@ def test_the_render_step_runs_plain_blender(job):
 
 
 def test_a_task_killed_midway_leaves_nothing_merge_takes_and_its_rerun_is_the_same(job):
-    assert job.killed_said, "the task never reached the rename"
+    assert job.killed_said, "the task never wrote its maps"
     assert len(job.killed_left) == 1 and job.killed_left[0].startswith(".g000_c0000.npz.")
     assert "g000_c0000.npz" not in job.after_kill
     _ok(job.rerun)
