@@ -323,7 +323,8 @@ def _same_uvs(scene, job, found):
             if plan.make and o["name"] not in made:
                 make_unique_uv(obj, job.view_layer, job.sizes[o["name"]])
                 made.add(o["name"])
-            if taskmaps.uv_hash(_uv(obj, o["uv_map"])) != o["uv_hash"]:
+            if (o["uv_map"] not in obj.data.uv_layers
+                    or taskmaps.uv_hash(_uv(obj, o["uv_map"])) != o["uv_hash"]):
                 raise Refused(f"the UV map '{o['uv_map']}' of '{o['name']}' is not the one "
                               f"{label} baked on: rerun {label}")
 

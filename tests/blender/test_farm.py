@@ -95,11 +95,15 @@ def _env():
 
 def build_scene(lf, path):
     """conftest's floor scene with a lamp on 4 h a day (a second light group), the box
-    aging too, a camera, tiny bakes and renders."""
+    aging too with UVs that overlap (the bake makes it a ``LightFadeUV`` map, each Bake
+    task in its own process and Merge again), a camera, tiny bakes and renders."""
     with lf.fresh_file():
         parts = lf.build_floor_scene()
         parts["material"].lightfade.blue_wool = 2
         parts["box"].data.materials.append(parts["material"])
+        uv = parts["box"].data.uv_layers.active.data    # every face on one square: the
+        square = np.array([[0.1, 0.1], [0.9, 0.1], [0.9, 0.9], [0.1, 0.9]], np.float32)
+        uv.foreach_set("uv", np.tile(square, (len(uv) // 4, 1)).ravel())   # bake makes LightFadeUV
         lamp = lf.add_point(power=60.0, location=(-0.5, -0.5, 1.5))
         lamp.data.lightfade.hours_per_day = 4.0
         s = bpy.context.scene
@@ -203,7 +207,8 @@ def exposure(path):
             px = np.empty(w * h * 4, dtype=np.float32)
             item.image.pixels.foreach_get(px)
             found[obj.name, item.name] = (px.reshape(h, w, 4)[..., 0], obj.lightfade.uv_map,
-                                          item.image.packed_file is not None)
+                                          item.image.packed_file is not None,
+                                          obj.lightfade.uv_created)
     return found
 
 
@@ -240,12 +245,14 @@ def test_merged_maps_match_a_one_machine_bake(blender, job):
     one = exposure(job.folder / "ref" / "scene.blend")
     assert sorted(farm) == sorted(one) == [("Box", "Lamp"), ("Box", "Sun"),
                                            ("Floor", "Lamp"), ("Floor", "Sun")]
-    for key, (lux, uv_map, packed) in farm.items():
-        ref, ref_uv, _ = one[key]
+    for key, (lux, uv_map, packed, _made) in farm.items():
+        ref, ref_uv, _packed, _made = one[key]
         assert lux.shape == ref.shape and uv_map == ref_uv and packed, key
         assert lux.mean() == pytest.approx(ref.mean(), rel=0.01), key
         assert ref.mean() > 10.0, key                       # lit: a real comparison
         np.testing.assert_allclose(lux, ref, rtol=1e-5, atol=1e-3)   # the same seeds
+    assert farm["Box", "Sun"][1] == "LightFadeUV" and farm["Floor", "Sun"][1] == "UVMap"
+    assert farm["Box", "Sun"][3] and not farm["Floor", "Sun"][3]   # Reset removes it, as after a bake
 
 
 def test_the_time_lapse_frames_match_one_machine_stills(job):
