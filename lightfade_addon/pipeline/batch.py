@@ -19,6 +19,7 @@ import bpy
 from ..output import plural
 from .steps import ACTIONS, check_overrides, dump_json
 from .files import Refused, write_text
+from .farm import ACTIONS as FARM_ACTIONS
 
 #: The add-on package these modules belong to (``lightfade_addon`` or ``bl_ext.<repo>.lightfade``).
 ADDON_PACKAGE = __package__.rpartition(".")[0]
@@ -88,7 +89,7 @@ def summary(action, rows):
 
 
 def _run_files(args):
-    action = ACTIONS[args.action]
+    action = {**ACTIONS, **FARM_ACTIONS}[args.action]
     rows = [_one(action, path, args, k, len(args.files)) for k, path in enumerate(args.files, 1)]
     print(summary(args.action, rows), flush=True)
     return rows

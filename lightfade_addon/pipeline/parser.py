@@ -64,7 +64,8 @@ def _add_output(p, what, suffix):
 
 
 def add_subcommands(parser):
-    """Add ``bake``, ``age``, ``render-years``, ``export-aged`` and ``info`` to ``parser``.
+    """Add ``bake``, ``age``, ``render-years``, ``export-aged``, ``info`` and the farm
+    commands (:func:`add_farm_subcommands`) to ``parser``.
 
     Each sub-parser sets ``args.action`` to its name; :func:`..batch.run` runs it.
     """
@@ -128,7 +129,82 @@ def add_subcommands(parser):
     p.add_argument("--json", nargs="?", const="-", metavar="FILE",
                    help="print one JSON document instead of text (stdout then carries "
                         "only the JSON), or write it to FILE")
+    add_farm_subcommands(sub)
     return sub
+
+
+def _frames(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"a frame must be a whole number, got {text!r}") from None
+    return value
+
+
+def _positive(kind, what):
+    def parse(text):
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{what} must be a number, got {text!r}") from None
+        if not value > 0 or not math.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{what} must be > 0, got {text!r}")
+        return value
+    return parse
+
+
+def add_farm_subcommands(sub):
+    """``farm-job`` and the commands its OpenJD steps run (``docs/farm.md``)."""
+    p = sub.add_parser("farm-job", help="write an OpenJD job bundle: the bake split into "
+                                        "tasks, merge, aging and the years time-lapse",
+                       description="Write an Open Job Description job bundle (OUT/template."
+                                   "yaml) for a render farm: Bake tasks of one light group x "
+                                   "a chunk of objects (sized from the bake's estimate), "
+                                   "Merge, and with --years Age and a Render step over the "
+                                   "frames of the years time-lapse. The .blend is not changed.")
+    p.add_argument("files", nargs=1, metavar="FILE.blend", help="the scene to bake")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="the bundle's folder (created if missing)")
+    p.add_argument("--task-minutes", type=_positive(float, "--task-minutes"), default=5.0,
+                   metavar="M", help="about how long one Bake task should run (default 5)")
+    p.add_argument("--years", type=_years, metavar="N",
+                   help="add Age and Render: a time-lapse from 0 to N years")
+    p.add_argument("--frames", type=_positive(int, "--frames"), metavar="COUNT",
+                   help="frames of the time-lapse from the scene's start frame (default: "
+                        "one per year and one for 0 years)")
+    _add_bake_flags(p)
+
+    p = sub.add_parser("farm-bake", help="(a farm-job task) bake one light group for one "
+                                         "chunk of objects",
+                       description="Bake one light group for one chunk of the job's objects "
+                                   "and write their maps to MAPS (atomically). The .blend is "
+                                   "only read.")
+    p.add_argument("files", nargs=1, metavar="FILE.blend", help="the job's scene")
+    p.add_argument("--plan", required=True, metavar="PLAN.json", help="the job's plan")
+    p.add_argument("--group", required=True, metavar="NAME", help="the light group")
+    p.add_argument("--chunk", required=True, type=int, metavar="K", help="the chunk (0...)")
+    p.add_argument("--maps", required=True, metavar="DIR", help="the job's maps folder")
+
+    p = sub.add_parser("farm-merge", help="(a farm-job task) check every Bake task's maps "
+                                          "and save the scene with them",
+                       description="Check the maps of every Bake task of the plan (a missing "
+                                   "or mismatched map is refused, naming the task to rerun) "
+                                   "and save the scene with them as --output.")
+    p.add_argument("files", nargs=1, metavar="FILE.blend", help="the job's scene")
+    p.add_argument("--plan", required=True, metavar="PLAN.json", help="the job's plan")
+    p.add_argument("--maps", required=True, metavar="DIR", help="the job's maps folder")
+    p.add_argument("--output", "-o", required=True, metavar="PATH.blend",
+                   help="the merged file (the scene stays read-only)")
+
+    p = sub.add_parser("farm-age", help="(a farm-job task) age and key the years over frames",
+                       description="Age the enabled materials to --years, key the years from "
+                                   "0 at the first frame to --years at the last, and save as "
+                                   "--output.")
+    p.add_argument("files", nargs=1, metavar="FILE.blend", help="the merged file")
+    p.add_argument("--years", type=_years, required=True, metavar="N", help="years at the end")
+    p.add_argument("--frames", type=_frames, nargs=2, required=True, metavar=("FIRST", "LAST"),
+                   help="the time-lapse's first and last frame")
+    p.add_argument("--output", "-o", required=True, metavar="PATH.blend", help="the aged file")
 
 
 def make_parser(prog):

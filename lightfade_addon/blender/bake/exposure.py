@@ -64,8 +64,10 @@ class ExposureBake:
     :meth:`commit`.  :func:`bake_exposure` runs it all."""
 
     def __init__(self, context_or_scene, objects=None, settings=None, report=None,
-                 progress=None, only_changed=False):
+                 progress=None, only_changed=False, groups=None):
         self.scene, self.view_layer = scene_and_layer(context_or_scene)
+        #: names of the light groups to bake (None: all); a farm task bakes one
+        self.only_groups = None if groups is None else set(groups)
         self.settings = settings or BakeSettings.from_scene(self.scene)
         self.report = report or print
         self.progress = progress
@@ -117,6 +119,8 @@ class ExposureBake:
         self._plan_glass(scene, depsgraph, layer)
         self.steps = []
         for group in self.groups:
+            if self.only_groups is not None and group.name not in self.only_groups:
+                continue
             names = set(group.member_names)
             objs = [o for o in targets if o.name not in names and not self._reusable(o, group)]
             if objs:
