@@ -24,6 +24,7 @@ import numpy as np
 from . import daylight as _daylight
 from . import denoise as _denoise
 from . import filter3d
+from . import geometry as _geometry
 from . import panes as _panes
 from . import portals as _portals
 from . import sizing
@@ -41,7 +42,7 @@ from .settings import BakeSettings
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
 from .sizing import planned_map
-from .uvmaps import make_unique_uv, texel_geometry
+from .uvmaps import make_unique_uv, remove_made_uv, texel_geometry
 
 
 @dataclass
@@ -101,7 +102,13 @@ class ExposureBake:
         depsgraph = bpy.context.evaluated_depsgraph_get()
         self.sizes, self.uv_plans = {}, {}
         for obj in targets:
+            problem = _geometry.evaluated_problem(obj, depsgraph, _geometry.baked_uv_name(obj))
+            if problem:
+                problems.append(problem)
+                continue
             size, plan = planned_map(obj, depsgraph, self.settings)
+            if not isinstance(plan, str) and plan.make:
+                plan = _geometry.island_problem(obj, size) or plan
             if isinstance(plan, str):
                 problems.append(plan)
             else:
@@ -190,6 +197,10 @@ class ExposureBake:
                 make_unique_uv(obj, self.view_layer, self.sizes[obj.name])
                 self._note(plan.note)
                 depsgraph.update()
+                problem = _geometry.made_map_problem(obj, depsgraph)
+                if problem:
+                    remove_made_uv(obj)
+                    raise LightFadeBakeError(problem)
             layers = obj.data.uv_layers
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))
