@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
+from . import batch as _batch
 from . import daylight as _daylight
 from . import denoise as _denoise
 from . import filter3d
@@ -65,12 +66,13 @@ class ExposureBake:
     :meth:`commit`.  :func:`bake_exposure` runs it all."""
 
     def __init__(self, context_or_scene, objects=None, settings=None, report=None,
-                 progress=None, only_changed=False):
+                 progress=None, only_changed=False, batch=True):
         self.scene, self.view_layer = scene_and_layer(context_or_scene)
         self.settings = settings or BakeSettings.from_scene(self.scene)
         self.report = report or print
         self.progress = progress
         self.only_changed = only_changed
+        self.batch = batch
         self.objects = list(objects or [])
         self.skipped, self.notes = [], []
         self.state = None
@@ -132,7 +134,23 @@ class ExposureBake:
         self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
         self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
                      for s in self.steps]
+        self._plan_atlases()
         return self
+
+    def _plan_atlases(self):
+        """Small objects baked together, one temporary mesh and atlas per batch
+        (:mod:`.batch`); emitters and objects whose materials read the object alone."""
+        self.atlases, self.atlas_of = [], {}
+        if not self.batch:
+            return
+        members = {n for g in self.groups for n in g.member_names}
+        safe = {}
+        small = {o.name: self.sizes[o.name] for o in self.targets
+                 if o.name not in members and _batch.batchable(o, self.sizes[o.name], safe)}
+        self.atlases = _batch.plan_atlases(small, self.settings.margin)
+        self.atlas_of = {name: atlas for atlas in self.atlases for name in atlas.cells}
+        self.atlas_last = {a.name: max(self.last_step.get(n, -1) for n in a.cells)
+                           for a in self.atlases}
 
     def _plan_glass(self, scene, depsgraph, layer):
         """Windows (a portal over each while the sky is baked) and the refracting glass
@@ -205,15 +223,38 @@ class ExposureBake:
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))
         self.state.configure(self.settings.samples, self.settings.margin, self.settings.seed)
-        self.nodes = attach_targets(self.state, self.targets)
+        depsgraph = self._build_atlases(depsgraph)
+        alone = [o for o in self.targets if o.name not in self.atlas_of]
+        self.nodes = attach_targets(self.state, alone + list(self.atlas_objects.values()))
         self.geometry = {}
         if self.settings.denoise:
-            for obj in self.targets:
+            for obj in alone:
                 self.geometry[obj.name] = texel_geometry(
                     obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
                     self.settings.margin)
+            for atlas in self.atlases:
+                obj = self.atlas_objects[atlas.name]
+                self.geometry[obj.name] = texel_geometry(
+                    obj, depsgraph, _batch.ATLAS_UV, atlas.size, self.settings.margin)
         self.done = 0
         self.start = time.perf_counter()
+
+    def _build_atlases(self, depsgraph):
+        """The temporary mesh of each atlas, standing in for its objects (hidden from
+        render meanwhile); removed on exit.  Returns the updated depsgraph."""
+        self.atlas_objects, self.atlas_maps = {}, {}
+        if not self.atlases:
+            return depsgraph
+        by_name = {o.name: o for o in self.targets}
+        uv_names = {name: plan.uv_name for name, plan in self.uv_plans.items()}
+        for atlas in self.atlases:
+            obj = _batch.build_atlas_object(atlas, by_name, uv_names, depsgraph, self.scene)
+            self.state.push(lambda o=obj: _batch.remove_atlas_object(o))
+            self.atlas_objects[atlas.name] = obj
+        for name in self.atlas_of:
+            self.state.set(by_name[name], "hide_render", True)
+        self.view_layer.update()
+        return bpy.context.evaluated_depsgraph_get()
 
     def __exit__(self, exc_type, exc, tb):
         state, self.state = self.state, None
@@ -232,20 +273,32 @@ class ExposureBake:
             if bakes_sky(step.group):
                 _portals.add_portals(inner, self.scene, self.windows)
             _panes.clear(inner, self.panes[step.group.name])
+            alone = [o for o in step.objects if o.name not in self.atlas_of]
+            atlases = list({self.atlas_of[o.name].name: self.atlas_of[o.name]
+                            for o in step.objects if o.name in self.atlas_of}.values())
+            baked = alone + [self.atlas_objects[a.name] for a in atlases]
             images = {}
-            for obj in step.objects:
-                image = self.state.new_image(f"{obj.name}_{step.group.name}", self.sizes[obj.name])
+            for obj, size in [(o, self.sizes[o.name]) for o in alone] + [
+                    (self.atlas_objects[a.name], a.size) for a in atlases]:
+                image = self.state.new_image(f"{obj.name}_{step.group.name}", size)
                 images[obj.name] = image
                 for node in self.nodes[obj.name]:
                     node.image = image
-            inner.select_only(step.objects)
-            check_bake_result(self.state.bake(), step.objects, step.group)
+            inner.select_only(baked)
+            check_bake_result(self.state.bake(), baked, step.group)
             for image in images.values():
                 _daylight.stamp(image, self.scene, step.group)
-        for obj in step.objects:
+        for obj in alone:
             self.maps.setdefault(obj.name, {})[step.group.name] = (step.group, images[obj.name])
             if self.last_step[obj.name] == self.done:
                 self._finish_maps(obj, [image for _, image in self.maps[obj.name].values()])
+        names = {o.name for o in step.objects}
+        for atlas in atlases:
+            image = images[self.atlas_objects[atlas.name].name]
+            self.atlas_maps.setdefault(atlas.name, {})[step.group.name] = (
+                step.group, image, [n for n in atlas.cells if n in names])
+            if self.atlas_last[atlas.name] == self.done:
+                self._finish_atlas(atlas)
         self.done += 1
         self._report_progress(step)
         return self.done < len(self.steps)
@@ -277,6 +330,26 @@ class ExposureBake:
             px[..., :3] = (np.maximum(Yg, 0.0) * LUX_PER_BAKE_UNIT)[..., None]
             px[..., 3] = 1.0
             image.pixels.foreach_set(px.ravel())
+
+    def _finish_atlas(self, atlas):
+        """Once an atlas's last group is baked: finish its maps as one object's (denoise,
+        3D filter, lux), then cut each object's map out of them (:func:`.batch.crop`)."""
+        obj = self.atlas_objects[atlas.name]
+        entries = self.atlas_maps.pop(atlas.name)
+        self._finish_maps(obj, [image for _, image, _ in entries.values()])
+        n = atlas.size
+        for group_name, (group, image, names) in entries.items():
+            px = np.empty(n * n * 4, dtype=np.float32)
+            image.pixels.foreach_get(px)
+            px = px.reshape(n, n, 4)
+            for name in names:
+                cell = atlas.cells[name]
+                part = self.state.new_image(f"{name}_{group_name}", cell[2])
+                part.pixels.foreach_set(np.ascontiguousarray(_batch.crop(px, cell)).ravel())
+                _daylight.stamp(part, self.scene, group)
+                self.maps.setdefault(name, {})[group_name] = (group, part)
+            self.state.temp_images.remove(image)   # its texels are in the objects' maps
+            bpy.data.images.remove(image)
 
     def _report_progress(self, step):
         done_work = sum(self.work[:self.done])
@@ -329,7 +402,7 @@ class ExposureBake:
 
 
 def bake_exposure(context_or_scene, objects=None, settings=None, report=None, progress=None,
-                  cancel=None, only_changed=False):
+                  cancel=None, only_changed=False, batch=True):
     """Bake one illuminance map (lux) per (mesh, light group) pair.
 
     Parameters
@@ -348,6 +421,10 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
         Checked between bakes; True cancels (settings restored, no map stored).
     only_changed : bool
         Keep maps whose light group did not change; sum maps of groups that merged.
+    batch : bool
+        Bake small objects together, in atlases on temporary joined meshes
+        (:mod:`.batch`); their maps are the same per-object maps.  Passing many objects
+        at once is how to bake them together.
 
     Returns
     -------
@@ -362,7 +439,8 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
         Nothing to bake, no emitters, linked data, overlapping UVs from a modifier... (all
         problems, one per line); :class:`.common.BakeCancelled` when cancelled.
     """
-    job = ExposureBake(context_or_scene, objects, settings, report, progress, only_changed)
+    job = ExposureBake(context_or_scene, objects, settings, report, progress, only_changed,
+                       batch)
     job.plan()
     start = time.perf_counter()
     with job:
