@@ -57,7 +57,7 @@ def _since(start):
     return round(wall - start[0], 3), round(cpu - start[1], 3)
 
 
-def _bake(objects, batch=True, max_size=None, unwrap=False):
+def _bake(objects, batch=True, max_size=None, unwrap=False, density=None):
     """Plan, prepare, bake and store; times of each."""
     import bpy
 
@@ -67,6 +67,8 @@ def _bake(objects, batch=True, max_size=None, unwrap=False):
     scene.lightfade_bake.quality = "PREVIEW"
     if max_size:
         scene.lightfade.bake_resolution = max_size
+    if density:
+        scene.lightfade_bake.texels_per_metre = density
     settings = BakeSettings.from_scene(scene, unwrap=unwrap)
     out = {}
     t = _clock()
@@ -83,6 +85,8 @@ def _bake(objects, batch=True, max_size=None, unwrap=False):
     out["bake"] = _since(t)
     out["Mtexels"] = round(sum(job.sizes[o.name] ** 2 for o in job.targets) / 1e6, 3)
     out["atlases"] = len(job.atlases)
+    out["groups"] = len(job.groups)
+    out["targets"] = len(job.targets)
     return out
 
 
@@ -101,7 +105,7 @@ def _age(out):
     assert bpy.context.scene.lightfade.years == 30.0
 
 
-def case(kind, n):
+def case(kind, n, density=None):
     """One row (a dict): run in a process of its own."""
     from benchmarks import scale_scenes
 
@@ -118,8 +122,7 @@ def case(kind, n):
         out = _bake([obj], unwrap=True)
     elif kind == "apartment":
         objects = scale_scenes.apartment(rooms=n)
-        out = _bake(objects)
-        out["objects"] = len(objects)
+        out = _bake(objects, density=density)
     else:
         raise ValueError(kind)
     if kind != "islands":
@@ -129,8 +132,8 @@ def case(kind, n):
     return out
 
 
-def run_case(kind, n):
-    proc = subprocess.run([sys.executable, __file__, "--case", f"{kind}:{n}"],
+def run_case(kind, n, density=0):
+    proc = subprocess.run([sys.executable, __file__, "--case", f"{kind}:{n}:{density}"],
                           capture_output=True, text=True)
     for line in proc.stdout.splitlines():
         if line.startswith("ROW "):
@@ -148,11 +151,13 @@ def _fmt(row, reference=None):
     years = f"{row['years_cpu_ms']:7.1f}" if "years_cpu_ms" in row else " " * 7
     return (f"{row['kind']:>9} {row['n']:>5} {cell('plan')} {cell('prepare')} {cell('bake')} "
             f"{cell('Age')} {years} {row['peak_MB']:6d} {row['Mtexels']:7.2f} "
-            f"{row.get('atlases', 0):3d} {total:8.2f} {ratio}")
+            f"{row.get('atlases', 0):3d} {row.get('targets', 0):5d} {row.get('groups', 0):3d} "
+            f"{total:8.2f} {ratio}")
 
 
 HEADER = (f"{'case':>9} {'N':>5} {'plan s wall/cpu':>14} {'prepare':>14} {'bake':>14} "
-          f"{'Age':>14} {'yrs ms':>7} {'peak MB':>6} {'Mtexels':>7} {'atl':>3} "
+          f"{'Age':>14} {'yrs ms':>7} {'peak MB':>6} {'Mtexels':>7} {'atl':>3} {'objs':>5} "
+          f"{'grp':>3} "
           f"{'total s':>8} {'vs one mesh':>6}")
 
 
@@ -162,12 +167,15 @@ def main():
     parser.add_argument("--alone-max", type=int, default=100)
     parser.add_argument("--islands", default="10,100,1000,5000")
     parser.add_argument("--apartment", type=int, default=4, help="rooms (0: none)")
+    parser.add_argument("--apartment-density", type=float, default=64.0,
+                        help="texels per metre of the apartment's maps (the default 256 "
+                        "bakes 16 times the texels)")
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--case", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.case:
-        kind, n = args.case.split(":")
-        print("ROW " + json.dumps(case(kind, int(n))), flush=True)
+        kind, n, density = args.case.split(":")
+        print("ROW " + json.dumps(case(kind, int(n), float(density) or None)), flush=True)
         return
     if args.quick:
         args.objects, args.islands, args.apartment = "10,100", "10,1000", 0
@@ -182,7 +190,7 @@ def main():
     for n in [int(x) for x in args.islands.split(",") if x]:
         print(_fmt(run_case("islands", n)), flush=True)
     if args.apartment:
-        print(_fmt(run_case("apartment", args.apartment)), flush=True)
+        print(_fmt(run_case("apartment", args.apartment, args.apartment_density)), flush=True)
 
 
 if __name__ == "__main__":

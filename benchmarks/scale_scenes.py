@@ -110,3 +110,101 @@ def joined_cubes(count, unique=True):
     floor_and_sun(offsets[:, :2].max() + 1.0)
     bpy.context.view_layer.update()
     return obj
+
+
+# ----------------------------------------------------------------------- the apartment
+
+ROOM = 4.0
+HEIGHT = 2.6
+#: Each room's lamps form a light group of their own: a different schedule (h/day).
+ROOM_HOURS = (5.0, 2.0, 3.0, 1.5, 4.0, 6.0)
+
+
+def _box(name, size, location, material, rotation=0.0):
+    """A box (Blender's cube UVs) of ``size`` (x, y, z) metres standing on ``location``."""
+    co, faces, uv = _template()
+    co = co / CUBE * np.asarray(size)
+    mesh = _mesh(name, co, faces, uv)
+    mesh.materials.append(material)
+    obj = _link(name, mesh, (location[0], location[1], location[2] + size[2] / 2))
+    obj.rotation_euler.z = rotation
+    return obj
+
+
+def _wall_with_window(name, x0, y0, x1, y1, material, window):
+    """A wall from (x0, y0) to (x1, y1), HEIGHT tall; ``window``: a 1.2 × 1.2 m opening in
+    its middle (four quads around it)."""
+    length = math.hypot(x1 - x0, y1 - y0)
+    ux, uy = (x1 - x0) / length, (y1 - y0) / length
+    edges = [0.0, length] if not window else [0.0, length / 2 - 0.6, length / 2 + 0.6, length]
+    heights = [0.0, HEIGHT] if not window else [0.0, 0.9, 2.1, HEIGHT]
+    verts = [(x0 + ux * s, y0 + uy * s, z) for s in edges for z in heights]
+    rows = len(heights)
+    faces, uvs = [], []
+    for i in range(len(edges) - 1):
+        for j in range(rows - 1):
+            if window and i == 1 and j == 1:
+                continue                                    # the opening
+            a = i * rows + j
+            faces.append([a, a + rows, a + rows + 1, a + 1])
+            for v in faces[-1]:
+                s, z = edges[v // rows], heights[v % rows]
+                uvs.append((s / max(length, HEIGHT), z / max(length, HEIGHT)))
+    mesh = _mesh(name, verts, faces, uvs)
+    mesh.materials.append(material)
+    return _link(name, mesh)
+
+
+def _lamp(name, location, power, hours):
+    data = bpy.data.lights.new(name, "POINT")
+    data.energy = power
+    data.shadow_soft_size = 0.1
+    data.lightfade.hours_per_day = hours
+    lamp = _link(name, data, location)
+    return lamp
+
+
+def apartment(rooms=4, small_per_room=60, seed=1):
+    """``rooms`` rooms of 4 × 4 m in a row (floor, ceiling, walls, a window each on the
+    south side), furniture (sofa, table, shelf, bed or cabinet as boxes), ``small_per_room``
+    small objects (books, cups, boxes: 0.06-0.25 m) on the furniture and floor, a ceiling
+    lamp and a desk lamp per room (each room's schedule its own: one light group per
+    room), annual daylight at 52° N.  Returns the aged objects (all but the lamps)."""
+    from lightfade_addon import api
+
+    rng = np.random.default_rng(seed)
+    paint, wood, fabric, small = (aged_material(n) for n in ("Paint", "Wood", "Fabric", "Small"))
+    objects = []
+    for r in range(rooms):
+        x = r * ROOM
+        objects.append(_box(f"Floor{r}", (ROOM, ROOM, 0.02), (x, 0, -0.02), wood))
+        objects.append(_box(f"Ceiling{r}", (ROOM, ROOM, 0.02), (x, 0, HEIGHT), paint))
+        h = ROOM / 2
+        for k, (a, b, window) in enumerate((((x - h, -h), (x + h, -h), True),
+                                           ((x + h, h), (x - h, h), False))):
+            objects.append(_wall_with_window(f"Wall{r}_{k}", *a, *b, paint, window))
+        if r == 0:
+            objects.append(_wall_with_window("WallWest", x - h, h, x - h, -h, paint, False))
+        objects.append(_wall_with_window(f"Wall{r}_e", x + h, -h, x + h, h, paint, False))
+        furniture = [("Sofa", (2.0, 0.9, 0.8), fabric), ("Table", (1.2, 0.8, 0.75), wood),
+                     ("Shelf", (1.0, 0.35, 1.9), wood), ("Cabinet", (0.8, 0.5, 0.9), wood)]
+        tops = []
+        for k, (name, size, mat) in enumerate(furniture):
+            loc = (x - 1.0 + 1.3 * (k % 2), -1.0 + 1.6 * (k // 2), 0.0)
+            objects.append(_box(f"{name}{r}", size, loc, mat, rotation=0.1 * k))
+            tops.append((loc, size))
+        for k in range(small_per_room):
+            (lx, ly, _), (sx, sy, sz) = tops[k % len(tops)]
+            dims = rng.uniform(0.06, 0.25, 3)
+            on = (lx + rng.uniform(-0.4, 0.4) * sx, ly + rng.uniform(-0.4, 0.4) * sy,
+                  sz if k % 3 else 0.0)
+            if k % 3 == 0:                                  # on the floor, around
+                on = (x + rng.uniform(-1.7, 1.7), rng.uniform(-1.7, 1.7), 0.0)
+            objects.append(_box(f"Thing{r}_{k:02d}", tuple(dims), on, small,
+                                rotation=rng.uniform(0, math.pi)))
+        hours = ROOM_HOURS[r % len(ROOM_HOURS)] + 0.01 * (r // len(ROOM_HOURS))
+        _lamp(f"Ceiling{r}Lamp", (x, 0.0, HEIGHT - 0.3), 60.0, hours)
+        _lamp(f"Desk{r}Lamp", (x - 0.5, 0.6, 1.2), 25.0, hours)
+    api.set_daylight(bpy.context.scene, 52.0, 4.5, north=0.0)
+    bpy.context.view_layer.update()
+    return objects
