@@ -22,8 +22,9 @@ Each case runs in its own process (so its peak memory is its own) and prints one
 Columns: ``plan`` (checks, sizes, UV plans, atlases), ``prepare`` (UV maps made,
 temporary meshes, texel geometry), ``bake`` (Cycles, denoising, 3D filter, storing),
 ``Age`` (aged copies, node groups), ``years`` (CPU of one years change), ``peak`` (the
-process's peak memory), ``Mtexels`` (texels baked), and the wall time against the one
-mesh's.  ``--quick``: 10 and 100 objects, 10 and 1000 islands, no apartment.
+process's peak memory), ``Mtexels`` (texels of the objects' maps), atlases, objects,
+light groups, and the wall and CPU time (all threads: what a shared machine's load
+does not change) against the one mesh's.  ``--quick``: 10 and 100 objects, 10 and 1000 islands, no apartment.
 """
 
 import argparse
@@ -142,23 +143,30 @@ def run_case(kind, n, density=0):
     return {"kind": kind, "n": n, "error": proc.returncode}
 
 
+STAGES = ("plan", "prepare", "bake")
+
+
+def _total(row, which):
+    return sum(row[k][which] for k in STAGES)
+
+
 def _fmt(row, reference=None):
     if "error" in row:
         return f"{row['kind']:>9} {row['n']:>5}  failed (exit {row['error']})"
     cell = lambda key: (f"{row[key][0]:7.2f}/{row[key][1]:<6.2f}" if key in row else " " * 14)
-    total = sum(row[k][0] for k in ("plan", "prepare", "bake"))
-    ratio = f"{total / reference:5.2f}x" if reference else "      "
+    wall, cpu = _total(row, 0), _total(row, 1)
+    ratio = (f"{wall / _total(reference, 0):5.2f}x /{cpu / _total(reference, 1):5.2f}x"
+             if reference else "")
     years = f"{row['years_cpu_ms']:7.1f}" if "years_cpu_ms" in row else " " * 7
     return (f"{row['kind']:>9} {row['n']:>5} {cell('plan')} {cell('prepare')} {cell('bake')} "
-            f"{cell('Age')} {years} {row['peak_MB']:6d} {row['Mtexels']:7.2f} "
+            f"{cell('Age')} {years} {row['peak_MB']:7d} {row['Mtexels']:7.2f} "
             f"{row.get('atlases', 0):3d} {row.get('targets', 0):5d} {row.get('groups', 0):3d} "
-            f"{total:8.2f} {ratio}")
+            f"{wall:7.2f}/{cpu:<7.2f} {ratio}")
 
 
 HEADER = (f"{'case':>9} {'N':>5} {'plan s wall/cpu':>14} {'prepare':>14} {'bake':>14} "
-          f"{'Age':>14} {'yrs ms':>7} {'peak MB':>6} {'Mtexels':>7} {'atl':>3} {'objs':>5} "
-          f"{'grp':>3} "
-          f"{'total s':>8} {'vs one mesh':>6}")
+          f"{'Age':>14} {'yrs ms':>7} {'peak MB':>7} {'Mtexels':>7} {'atl':>3} {'objs':>5} "
+          f"{'grp':>3} {'total wall/cpu':>15} {'vs one mesh wall / cpu'}")
 
 
 def main():
@@ -182,7 +190,7 @@ def main():
     print(HEADER)
     for n in [int(x) for x in args.objects.split(",") if x]:
         one = run_case("onemesh", n)
-        ref = sum(one[k][0] for k in ("plan", "prepare", "bake")) if "error" not in one else None
+        ref = one if "error" not in one else None
         print(_fmt(one), flush=True)
         print(_fmt(run_case("objects", n), ref), flush=True)
         if n <= args.alone_max:
