@@ -100,3 +100,10 @@ def test_materials_that_read_the_object_are_baked_alone(cubes):
     assert not batch.material_batch_safe(mat)
     job = ExposureBake(bpy.context.scene, cubes, SETTINGS, report=lambda m: None).plan()
     assert job.atlases == []
+
+
+def test_the_widest_map_batched_is_a_choice(cubes):
+    scene = bpy.context.scene
+    assert ExposureBake(scene, cubes, SETTINGS, report=print, batch=64).plan().atlases
+    assert not ExposureBake(scene, cubes, SETTINGS, report=print, batch=32).plan().atlases
+    assert not ExposureBake(scene, cubes, SETTINGS, report=print, batch=False).plan().atlases

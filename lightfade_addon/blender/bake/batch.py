@@ -17,9 +17,11 @@ the light is what it was.  The atlas is denoised and filtered once, then cut int
 each object's own map (:func:`crop`): aging, storing and re-baking see per-object maps
 as before.
 
-Another module bakes N objects together by passing them to
-:func:`.exposure.bake_exposure` (or :class:`.exposure.ExposureBake`): batching is
-automatic for the objects that qualify.
+Another module bakes N objects together by passing them to one
+:func:`.exposure.bake_exposure` call (or :class:`.exposure.ExposureBake`): batching is
+automatic for the objects that qualify; ``batch=`` a width bakes together the objects
+whose maps are at most that wide (``batch=4096``: every batch-safe object), ``False``
+none.
 """
 
 from __future__ import annotations
@@ -98,10 +100,11 @@ def material_batch_safe(material):
     return _tree_batch_safe(material.node_tree, set())
 
 
-def batchable(obj, size, safe=None):
-    """Whether ``obj`` (its map ``size`` wide) may be baked in an atlas.  ``safe``: a
-    cache ``{material name: bool}``."""
-    if size > BATCH_MAX_SIZE or obj.lightfade_emitter.enabled:
+def batchable(obj, size, safe=None, max_size=BATCH_MAX_SIZE):
+    """Whether ``obj`` (its map ``size`` wide) may be baked in an atlas: a map at most
+    ``max_size`` wide, no emitter, batch-safe materials.  ``safe``: a cache
+    ``{material name: bool}``."""
+    if size > max_size or obj.lightfade_emitter.enabled:
         return False
     safe = {} if safe is None else safe
     for slot in obj.material_slots:

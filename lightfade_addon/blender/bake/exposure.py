@@ -145,8 +145,10 @@ class ExposureBake:
             return
         members = {n for g in self.groups for n in g.member_names}
         safe = {}
+        widest = _batch.BATCH_MAX_SIZE if self.batch is True else int(self.batch)
         small = {o.name: self.sizes[o.name] for o in self.targets
-                 if o.name not in members and _batch.batchable(o, self.sizes[o.name], safe)}
+                 if o.name not in members and _batch.batchable(o, self.sizes[o.name], safe,
+                                                               widest)}
         self.atlases = _batch.plan_atlases(small, self.settings.margin)
         self.atlas_of = {name: atlas for atlas in self.atlases for name in atlas.cells}
         self.atlas_last = {a.name: max(self.last_step.get(n, -1) for n in a.cells)
@@ -421,10 +423,11 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
         Checked between bakes; True cancels (settings restored, no map stored).
     only_changed : bool
         Keep maps whose light group did not change; sum maps of groups that merged.
-    batch : bool
+    batch : bool or int
         Bake small objects together, in atlases on temporary joined meshes
         (:mod:`.batch`); their maps are the same per-object maps.  Passing many objects
-        at once is how to bake them together.
+        at once is how to bake them together.  True: maps up to
+        :data:`.batch.BATCH_MAX_SIZE` wide; a number: maps up to that wide; False: none.
 
     Returns
     -------
