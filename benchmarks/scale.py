@@ -85,7 +85,7 @@ def _bake(objects, batch=True, max_size=None, unwrap=False, density=None):
         job.commit()
     out["bake"] = _since(t)
     out["Mtexels"] = round(sum(job.sizes[o.name] ** 2 for o in job.targets) / 1e6, 3)
-    out["atlases"] = len(job.atlases)
+    out["atlases"] = len(job.batches.atlases)
     out["groups"] = len(job.groups)
     out["targets"] = len(job.targets)
     return out

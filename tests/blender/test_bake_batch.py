@@ -66,7 +66,7 @@ def _bake(objects, use_batch, seed=0):
 
 def test_batched_maps_are_the_maps_baked_alone(cubes):
     job = ExposureBake(bpy.context.scene, cubes, SETTINGS, report=lambda m: None).plan()
-    assert len(job.atlases) == 1 and sorted(job.atlas_of) == sorted(o.name for o in cubes)
+    assert len(job.batches.atlases) == 1 and sorted(job.batches.of) == sorted(o.name for o in cubes)
     together = _bake(cubes, True)
     alone = _bake(cubes, False, seed=1)
     ratios = []
@@ -99,11 +99,11 @@ def test_materials_that_read_the_object_are_baked_alone(cubes):
     mat.node_tree.links.new(info.outputs["Random"], bsdf.inputs["Roughness"])
     assert not batch.material_batch_safe(mat)
     job = ExposureBake(bpy.context.scene, cubes, SETTINGS, report=lambda m: None).plan()
-    assert job.atlases == []
+    assert job.batches.atlases == []
 
 
 def test_the_widest_map_batched_is_a_choice(cubes):
     scene = bpy.context.scene
-    assert ExposureBake(scene, cubes, SETTINGS, report=print, batch=64).plan().atlases
-    assert not ExposureBake(scene, cubes, SETTINGS, report=print, batch=32).plan().atlases
-    assert not ExposureBake(scene, cubes, SETTINGS, report=print, batch=False).plan().atlases
+    assert ExposureBake(scene, cubes, SETTINGS, report=print, batch=64).plan().batches.atlases
+    assert not ExposureBake(scene, cubes, SETTINGS, report=print, batch=32).plan().batches.atlases
+    assert not ExposureBake(scene, cubes, SETTINGS, report=print, batch=False).plan().batches.atlases

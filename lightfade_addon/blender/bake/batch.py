@@ -33,8 +33,9 @@ import bpy
 import numpy as np
 
 from .common import TEMP_PREFIX
+from .daylight import stamp
 from .emitters import emission_sockets
-from .uvmaps import evaluated_mesh
+from .uvmaps import evaluated_mesh, texel_geometry
 
 #: Objects whose maps are at most this wide are baked in atlases (texels).
 BATCH_MAX_SIZE = 256
@@ -154,6 +155,20 @@ def pack_cells(sizes, spacing, max_size=ATLAS_MAX):
     return atlases
 
 
+def plan_for(targets, sizes, groups, margin, batch=True):
+    """The atlases of a bake: its ``targets`` (maps ``sizes`` wide by name) that are
+    :func:`batchable`, not counted as lamps in any of ``groups``; ``batch`` True (maps
+    up to :data:`BATCH_MAX_SIZE` wide), a width, or False (none)."""
+    if not batch:
+        return []
+    members = {n for g in groups for n in g.member_names}
+    safe = {}
+    widest = BATCH_MAX_SIZE if batch is True else int(batch)
+    small = {o.name: sizes[o.name] for o in targets
+             if o.name not in members and batchable(o, sizes[o.name], safe, widest)}
+    return plan_atlases(small, margin)
+
+
 def plan_atlases(sizes, margin, max_size=ATLAS_MAX):
     """The :class:`Atlas` of each batch of the objects ``{name: map width}`` (all
     batchable); none for fewer than :data:`MIN_BATCH`."""
@@ -270,6 +285,46 @@ def build_atlas_object(atlas, objects, uv_names, depsgraph, scene):
     return obj
 
 
+def stand_in(state, atlases, targets, uv_plans, depsgraph, scene):
+    """Each atlas's temporary mesh standing in for its objects, which are hidden from
+    render meanwhile (``state`` puts them back and removes the meshes on exit).
+    Returns ``{atlas name: object}``."""
+    by_name = {o.name: o for o in targets}
+    uv_names = {name: plan.uv_name for name, plan in uv_plans.items()}
+    made = {}
+    for atlas in atlases:
+        obj = build_atlas_object(atlas, by_name, uv_names, depsgraph, scene)
+        state.push(lambda o=obj: remove_atlas_object(o))
+        made[atlas.name] = obj
+        for name in atlas.cells:
+            state.set(by_name[name], "hide_render", True)
+    return made
+
+
+def cut(state, scene, atlas, entries):
+    """Each object's maps cut from an atlas's finished maps.
+
+    ``entries``: ``{group name: (group, atlas image, [object names baked for it])}``.
+    Returns ``{object name: {group name: (group, image)}}`` (temporary images of
+    ``state``); the atlas images are removed.
+    """
+    maps = {}
+    n = atlas.size
+    for group_name, (group, image, names) in entries.items():
+        px = np.empty(n * n * 4, dtype=np.float32)
+        image.pixels.foreach_get(px)
+        px = px.reshape(n, n, 4)
+        for name in names:
+            cell = atlas.cells[name]
+            part = state.new_image(f"{name}_{group_name}", cell[2])
+            part.pixels.foreach_set(np.ascontiguousarray(crop(px, cell)).ravel())
+            stamp(part, scene, group)
+            maps.setdefault(name, {})[group_name] = (group, part)
+        state.temp_images.remove(image)   # its texels are in the objects' maps
+        bpy.data.images.remove(image)
+    return maps
+
+
 def remove_atlas_object(obj):
     """Delete a temporary atlas mesh and its object."""
     mesh = obj.data
@@ -281,3 +336,44 @@ def crop(pixels, cell):
     """The ``(n, n, C)`` map of one object cut from the atlas ``pixels`` (S, S, C)."""
     x, y, n = cell
     return pixels[y:y + n, x:x + n]
+
+
+class Batches:
+    """The atlases of one bake (:func:`plan_for`), their temporary meshes and maps.
+
+    ``last_step``: the index of each object's last bake step; an atlas is finished
+    after the last step of any of its objects."""
+
+    def __init__(self, targets, sizes, groups, margin, batch, last_step):
+        self.atlases = plan_for(targets, sizes, groups, margin, batch)
+        self.of = {name: atlas for atlas in self.atlases for name in atlas.cells}
+        self.last = {a.name: max(last_step.get(n, -1) for n in a.cells) for a in self.atlases}
+        self.objects, self.maps = {}, {}
+
+    def stand_in(self, state, targets, uv_plans, depsgraph, scene, view_layer):
+        """Build the temporary meshes (:func:`stand_in`); returns the depsgraph to use."""
+        self.objects = stand_in(state, self.atlases, targets, uv_plans, depsgraph, scene)
+        if not self.atlases:
+            return depsgraph
+        view_layer.update()
+        return bpy.context.evaluated_depsgraph_get()
+
+    def geometry(self, depsgraph, margin):
+        """``{temporary object name: TexelGeometry}`` of each atlas."""
+        return {self.objects[a.name].name: texel_geometry(
+            self.objects[a.name], depsgraph, ATLAS_UV, a.size, margin) for a in self.atlases}
+
+    def split(self, objects):
+        """``objects`` baked on their own, and ``[(atlas, temporary object)]`` standing in
+        for the others."""
+        alone = [o for o in objects if o.name not in self.of]
+        atlases = {self.of[o.name].name: self.of[o.name] for o in objects if o.name in self.of}
+        return alone, [(a, self.objects[a.name]) for a in atlases.values()]
+
+    def record(self, atlas, group, image, objects, step):
+        """Keep ``atlas``'s map ``image`` of ``group`` for ``objects`` (those of the step
+        in it); True when this ``step`` is the atlas's last."""
+        names = {o.name for o in objects}
+        self.maps.setdefault(atlas.name, {})[group.name] = (
+            group, image, [n for n in atlas.cells if n in names])
+        return self.last[atlas.name] == step

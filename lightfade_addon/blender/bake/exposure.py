@@ -42,8 +42,7 @@ from .maps import members, prune_maps, store_map
 from .settings import BakeSettings
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
-from .sizing import planned_map
-from .uvmaps import make_unique_uv, remove_made_uv, texel_geometry
+from .uvmaps import make_unique_uv, texel_geometry
 
 
 @dataclass
@@ -104,13 +103,7 @@ class ExposureBake:
         depsgraph = bpy.context.evaluated_depsgraph_get()
         self.sizes, self.uv_plans = {}, {}
         for obj in targets:
-            problem = _geometry.evaluated_problem(obj, depsgraph, _geometry.baked_uv_name(obj))
-            if problem:
-                problems.append(problem)
-                continue
-            size, plan = planned_map(obj, depsgraph, self.settings)
-            if not isinstance(plan, str) and plan.make:
-                plan = _geometry.island_problem(obj, size) or plan
+            size, plan = _geometry.checked_plan(obj, depsgraph, self.settings)
             if isinstance(plan, str):
                 problems.append(plan)
             else:
@@ -134,25 +127,10 @@ class ExposureBake:
         self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
         self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
                      for s in self.steps]
-        self._plan_atlases()
+        # small objects baked together, one temporary mesh and atlas per batch
+        self.batches = _batch.Batches(targets, self.sizes, self.groups, self.settings.margin,
+                                      self.batch, self.last_step)
         return self
-
-    def _plan_atlases(self):
-        """Small objects baked together, one temporary mesh and atlas per batch
-        (:mod:`.batch`); emitters and objects whose materials read the object alone."""
-        self.atlases, self.atlas_of = [], {}
-        if not self.batch:
-            return
-        members = {n for g in self.groups for n in g.member_names}
-        safe = {}
-        widest = _batch.BATCH_MAX_SIZE if self.batch is True else int(self.batch)
-        small = {o.name: self.sizes[o.name] for o in self.targets
-                 if o.name not in members and _batch.batchable(o, self.sizes[o.name], safe,
-                                                               widest)}
-        self.atlases = _batch.plan_atlases(small, self.settings.margin)
-        self.atlas_of = {name: atlas for atlas in self.atlases for name in atlas.cells}
-        self.atlas_last = {a.name: max(self.last_step.get(n, -1) for n in a.cells)
-                           for a in self.atlases}
 
     def _plan_glass(self, scene, depsgraph, layer):
         """Windows (a portal over each while the sky is baked) and the refracting glass
@@ -217,46 +195,24 @@ class ExposureBake:
                 make_unique_uv(obj, self.view_layer, self.sizes[obj.name])
                 self._note(plan.note)
                 depsgraph.update()
-                problem = _geometry.made_map_problem(obj, depsgraph)
-                if problem:
-                    remove_made_uv(obj)
-                    raise LightFadeBakeError(problem)
+                _geometry.check_made_map(obj, depsgraph)
             layers = obj.data.uv_layers
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))
         self.state.configure(self.settings.samples, self.settings.margin, self.settings.seed)
-        depsgraph = self._build_atlases(depsgraph)
-        alone = [o for o in self.targets if o.name not in self.atlas_of]
-        self.nodes = attach_targets(self.state, alone + list(self.atlas_objects.values()))
+        depsgraph = self.batches.stand_in(self.state, self.targets, self.uv_plans, depsgraph,
+                                          self.scene, self.view_layer)
+        alone, atlases = self.batches.split(self.targets)
+        self.nodes = attach_targets(self.state, alone + [obj for _, obj in atlases])
         self.geometry = {}
         if self.settings.denoise:
             for obj in alone:
                 self.geometry[obj.name] = texel_geometry(
                     obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
                     self.settings.margin)
-            for atlas in self.atlases:
-                obj = self.atlas_objects[atlas.name]
-                self.geometry[obj.name] = texel_geometry(
-                    obj, depsgraph, _batch.ATLAS_UV, atlas.size, self.settings.margin)
+            self.geometry.update(self.batches.geometry(depsgraph, self.settings.margin))
         self.done = 0
         self.start = time.perf_counter()
-
-    def _build_atlases(self, depsgraph):
-        """The temporary mesh of each atlas, standing in for its objects (hidden from
-        render meanwhile); removed on exit.  Returns the updated depsgraph."""
-        self.atlas_objects, self.atlas_maps = {}, {}
-        if not self.atlases:
-            return depsgraph
-        by_name = {o.name: o for o in self.targets}
-        uv_names = {name: plan.uv_name for name, plan in self.uv_plans.items()}
-        for atlas in self.atlases:
-            obj = _batch.build_atlas_object(atlas, by_name, uv_names, depsgraph, self.scene)
-            self.state.push(lambda o=obj: _batch.remove_atlas_object(o))
-            self.atlas_objects[atlas.name] = obj
-        for name in self.atlas_of:
-            self.state.set(by_name[name], "hide_render", True)
-        self.view_layer.update()
-        return bpy.context.evaluated_depsgraph_get()
 
     def __exit__(self, exc_type, exc, tb):
         state, self.state = self.state, None
@@ -275,13 +231,11 @@ class ExposureBake:
             if bakes_sky(step.group):
                 _portals.add_portals(inner, self.scene, self.windows)
             _panes.clear(inner, self.panes[step.group.name])
-            alone = [o for o in step.objects if o.name not in self.atlas_of]
-            atlases = list({self.atlas_of[o.name].name: self.atlas_of[o.name]
-                            for o in step.objects if o.name in self.atlas_of}.values())
-            baked = alone + [self.atlas_objects[a.name] for a in atlases]
+            alone, atlases = self.batches.split(step.objects)
+            baked = alone + [obj for _, obj in atlases]
             images = {}
             for obj, size in [(o, self.sizes[o.name]) for o in alone] + [
-                    (self.atlas_objects[a.name], a.size) for a in atlases]:
+                    (obj, a.size) for a, obj in atlases]:
                 image = self.state.new_image(f"{obj.name}_{step.group.name}", size)
                 images[obj.name] = image
                 for node in self.nodes[obj.name]:
@@ -294,12 +248,8 @@ class ExposureBake:
             self.maps.setdefault(obj.name, {})[step.group.name] = (step.group, images[obj.name])
             if self.last_step[obj.name] == self.done:
                 self._finish_maps(obj, [image for _, image in self.maps[obj.name].values()])
-        names = {o.name for o in step.objects}
-        for atlas in atlases:
-            image = images[self.atlas_objects[atlas.name].name]
-            self.atlas_maps.setdefault(atlas.name, {})[step.group.name] = (
-                step.group, image, [n for n in atlas.cells if n in names])
-            if self.atlas_last[atlas.name] == self.done:
+        for atlas, obj in atlases:
+            if self.batches.record(atlas, step.group, images[obj.name], step.objects, self.done):
                 self._finish_atlas(atlas)
         self.done += 1
         self._report_progress(step)
@@ -335,23 +285,12 @@ class ExposureBake:
 
     def _finish_atlas(self, atlas):
         """Once an atlas's last group is baked: finish its maps as one object's (denoise,
-        3D filter, lux), then cut each object's map out of them (:func:`.batch.crop`)."""
-        obj = self.atlas_objects[atlas.name]
-        entries = self.atlas_maps.pop(atlas.name)
-        self._finish_maps(obj, [image for _, image, _ in entries.values()])
-        n = atlas.size
-        for group_name, (group, image, names) in entries.items():
-            px = np.empty(n * n * 4, dtype=np.float32)
-            image.pixels.foreach_get(px)
-            px = px.reshape(n, n, 4)
-            for name in names:
-                cell = atlas.cells[name]
-                part = self.state.new_image(f"{name}_{group_name}", cell[2])
-                part.pixels.foreach_set(np.ascontiguousarray(_batch.crop(px, cell)).ravel())
-                _daylight.stamp(part, self.scene, group)
-                self.maps.setdefault(name, {})[group_name] = (group, part)
-            self.state.temp_images.remove(image)   # its texels are in the objects' maps
-            bpy.data.images.remove(image)
+        3D filter, lux), then cut each object's map out of them (:func:`.batch.cut`)."""
+        entries = self.batches.maps.pop(atlas.name)
+        self._finish_maps(self.batches.objects[atlas.name],
+                          [image for _, image, _ in entries.values()])
+        for name, maps in _batch.cut(self.state, self.scene, atlas, entries).items():
+            self.maps.setdefault(name, {}).update(maps)
 
     def _report_progress(self, step):
         done_work = sum(self.work[:self.done])
@@ -424,10 +363,8 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
     only_changed : bool
         Keep maps whose light group did not change; sum maps of groups that merged.
     batch : bool or int
-        Bake small objects together, in atlases on temporary joined meshes
-        (:mod:`.batch`); their maps are the same per-object maps.  Passing many objects
-        at once is how to bake them together.  True: maps up to
-        :data:`.batch.BATCH_MAX_SIZE` wide; a number: maps up to that wide; False: none.
+        Bake the objects whose maps are at most :data:`.batch.BATCH_MAX_SIZE` (or this
+        number) wide together, in atlases (:mod:`.batch`); False: each on its own.
 
     Returns
     -------

@@ -13,8 +13,9 @@ UV maps, so an object is refused, naming it, the reason and what to do, when
 
 from __future__ import annotations
 
-from .common import UV_MAP_NAME
-from .uvmaps import PACK_GAP_TEXELS, evaluated_mesh, polygon_islands
+from .common import UV_MAP_NAME, LightFadeBakeError
+from .sizing import planned_map
+from .uvmaps import PACK_GAP_TEXELS, evaluated_mesh, polygon_islands, remove_made_uv
 
 #: Texels an island needs at least in a packed map: two texels across and the packing
 #: gap it shares with its neighbours, ``(2 + gap)²``.
@@ -73,10 +74,25 @@ def evaluated_problem(obj, depsgraph, uv_name):
     return ""
 
 
-def made_map_problem(obj, depsgraph):
-    """After ``LightFadeUV`` was made on ``obj``'s mesh: why the mesh as rendered lacks
-    it (its modifiers drop UV maps), or ''."""
-    return evaluated_problem(obj, depsgraph, UV_MAP_NAME)
+def check_made_map(obj, depsgraph):
+    """After ``LightFadeUV`` was made on ``obj``'s mesh: when the mesh as rendered lacks
+    it (its modifiers drop UV maps), remove it and raise :class:`.LightFadeBakeError`."""
+    problem = evaluated_problem(obj, depsgraph, UV_MAP_NAME)
+    if problem:
+        remove_made_uv(obj)
+        raise LightFadeBakeError(problem)
+
+
+def checked_plan(obj, depsgraph, settings):
+    """:func:`.sizing.planned_map` of ``obj`` after the checks of the mesh as rendered:
+    ``(width, UvPlan)``, or ``(width, problem line)``."""
+    problem = evaluated_problem(obj, depsgraph, baked_uv_name(obj))
+    if problem:
+        return 0, problem
+    size, plan = planned_map(obj, depsgraph, settings)
+    if not isinstance(plan, str) and plan.make:
+        plan = island_problem(obj, size) or plan
+    return size, plan
 
 
 def island_problem(obj, size):
