@@ -14,7 +14,7 @@ UV maps, so an object is refused, naming it, the reason and what to do, when
 from __future__ import annotations
 
 from .common import UV_MAP_NAME, LightFadeBakeError
-from .sizing import planned_map
+from .sizing import PACK_FILL, planned_map
 from .uvmaps import PACK_GAP_TEXELS, evaluated_mesh, polygon_islands, remove_made_uv
 
 #: Texels an island needs at least in a packed map: two texels across and the packing
@@ -108,10 +108,10 @@ def island_problem(obj, size):
     if source is None or len(mesh.polygons) == 0:
         return ""  # Smart UV Project makes the islands: their number is not known yet
     islands = int(polygon_islands(mesh, source).max()) + 1
-    room = int(0.55 * size * size / MIN_ISLAND_TEXELS)
+    room = int(PACK_FILL * size * size / MIN_ISLAND_TEXELS)
     if islands <= room:
         return ""
-    need = 8 * -(-int((islands * MIN_ISLAND_TEXELS / 0.55) ** 0.5) // 8)
+    need = 8 * -(-int((islands * MIN_ISLAND_TEXELS / PACK_FILL) ** 0.5) // 8)
     return (f"\"{obj.name}\": its {islands} UV islands do not fit a {size}² map (room for "
             f"{room}, each needs {MIN_ISLAND_TEXELS} texels with its gaps): raise Max Size "
             f"(Exposure Bake) to at least {need}, join islands (fewer seams), or split the "
