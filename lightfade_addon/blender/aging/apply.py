@@ -22,6 +22,7 @@ import numpy as np
 
 from . import data as agingdata, parts, runtime
 from ..albedo import albedo_image, bake_albedos
+from ..bake.emitters import remembered
 from .copies import APPLIED_NAME, GROUP_NODE, copies_of, walk
 from ..errors import AgingError, check_years
 from ..exposure import exposure_shape, exposure_signature, exposure_uv
@@ -108,12 +109,13 @@ def update_scene(scene, years=None, report=print):
     """
     t0 = time.perf_counter()
     years = check_years(get_years(scene) if years is None else years)
-    for copy in aged_copies(scene):
-        message = stale_message(scene, copy)
-        if message:
-            props = copy.lightfade
-            report(f"LightFade: '{props.source.name}' on '{props.aged_object.name}' is "
-                   f"{message}")
+    with remembered(scene):
+        for copy in aged_copies(scene):
+            message = stale_message(scene, copy)
+            if message:
+                props = copy.lightfade
+                report(f"LightFade: '{props.source.name}' on '{props.aged_object.name}' is "
+                       f"{message}")
     write_years(scene, years)
     return time.perf_counter() - t0
 

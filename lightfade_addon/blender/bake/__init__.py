@@ -9,6 +9,9 @@ Modules, one job each:
 ``emitters`` finding emitters, grouping them by spectrum and schedule, isolating a group
 ``raster``   UV triangles on the texel grid (numpy): overlap counts, island labels
 ``uvmaps``   the UV map each object is baked on: overlap checks, LightFadeUV
+``uvpack``   islands folded onto themselves found all at once; overlap tests that stop early
+``geometry`` geometry refused before any Cycles work (instances only, no faces, no UV map)
+``batch``    small objects baked together: one temporary mesh and atlas per batch
 ``sizing``   map sizes from a texel density; time estimates from a calibration bake
 ``targets``  which objects are baked; the target image nodes in their real materials
 ``surface``  the baked texels read as a Lambertian probe, the real material for every other ray

@@ -21,9 +21,11 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
+from . import batch as _batch
 from . import daylight as _daylight
 from . import denoise as _denoise
 from . import filter3d
+from . import geometry as _geometry
 from . import panes as _panes
 from . import portals as _portals
 from . import sizing
@@ -40,7 +42,6 @@ from .maps import members, prune_maps, store_map
 from .settings import BakeSettings
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
-from .sizing import planned_map
 from .uvmaps import make_unique_uv, texel_geometry
 
 
@@ -64,7 +65,7 @@ class ExposureBake:
     :meth:`commit`.  :func:`bake_exposure` runs it all."""
 
     def __init__(self, context_or_scene, objects=None, settings=None, report=None,
-                 progress=None, only_changed=False, groups=None):
+                 progress=None, only_changed=False, groups=None, batch=True):
         self.scene, self.view_layer = scene_and_layer(context_or_scene)
         #: names of the light groups to bake (None: all); a farm task bakes one
         self.only_groups = None if groups is None else set(groups)
@@ -72,6 +73,7 @@ class ExposureBake:
         self.report = report or print
         self.progress = progress
         self.only_changed = only_changed
+        self.batch = batch
         self.objects = list(objects or [])
         self.skipped, self.notes = [], []
         self.state = None
@@ -103,7 +105,7 @@ class ExposureBake:
         depsgraph = bpy.context.evaluated_depsgraph_get()
         self.sizes, self.uv_plans = {}, {}
         for obj in targets:
-            size, plan = planned_map(obj, depsgraph, self.settings)
+            size, plan = _geometry.checked_plan(obj, depsgraph, self.settings)
             if isinstance(plan, str):
                 problems.append(plan)
             else:
@@ -129,6 +131,9 @@ class ExposureBake:
         self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
         self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
                      for s in self.steps]
+        # small objects baked together, one temporary mesh and atlas per batch
+        self.batches = _batch.Batches(targets, self.sizes, self.groups, self.settings.margin,
+                                      self.batch, self.last_step)
         return self
 
     def _plan_glass(self, scene, depsgraph, layer):
@@ -194,17 +199,22 @@ class ExposureBake:
                 make_unique_uv(obj, self.view_layer, self.sizes[obj.name])
                 self._note(plan.note)
                 depsgraph.update()
+                _geometry.check_made_map(obj, depsgraph)
             layers = obj.data.uv_layers
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))
         self.state.configure(self.settings.samples, self.settings.margin, self.settings.seed)
-        self.nodes = attach_targets(self.state, self.targets)
+        depsgraph = self.batches.stand_in(self.state, self.targets, self.uv_plans, depsgraph,
+                                          self.scene, self.view_layer)
+        alone, atlases = self.batches.split(self.targets)
+        self.nodes = attach_targets(self.state, alone + [obj for _, obj in atlases])
         self.geometry = {}
         if self.settings.denoise:
-            for obj in self.targets:
+            for obj in alone:
                 self.geometry[obj.name] = texel_geometry(
                     obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
                     self.settings.margin)
+            self.geometry.update(self.batches.geometry(depsgraph, self.settings.margin))
         self.done = 0
         self.start = time.perf_counter()
 
@@ -225,20 +235,26 @@ class ExposureBake:
             if bakes_sky(step.group):
                 _portals.add_portals(inner, self.scene, self.windows)
             _panes.clear(inner, self.panes[step.group.name])
+            alone, atlases = self.batches.split(step.objects)
+            baked = alone + [obj for _, obj in atlases]
             images = {}
-            for obj in step.objects:
-                image = self.state.new_image(f"{obj.name}_{step.group.name}", self.sizes[obj.name])
+            for obj, size in [(o, self.sizes[o.name]) for o in alone] + [
+                    (obj, a.size) for a, obj in atlases]:
+                image = self.state.new_image(f"{obj.name}_{step.group.name}", size)
                 images[obj.name] = image
                 for node in self.nodes[obj.name]:
                     node.image = image
-            inner.select_only(step.objects)
-            check_bake_result(self.state.bake(), step.objects, step.group)
+            inner.select_only(baked)
+            check_bake_result(self.state.bake(), baked, step.group)
             for image in images.values():
                 _daylight.stamp(image, self.scene, step.group)
-        for obj in step.objects:
+        for obj in alone:
             self.maps.setdefault(obj.name, {})[step.group.name] = (step.group, images[obj.name])
             if self.last_step[obj.name] == self.done:
                 self._finish_maps(obj, [image for _, image in self.maps[obj.name].values()])
+        for atlas, obj in atlases:
+            if self.batches.record(atlas, step.group, images[obj.name], step.objects, self.done):
+                self._finish_atlas(atlas)
         self.done += 1
         self._report_progress(step)
         return self.done < len(self.steps)
@@ -270,6 +286,15 @@ class ExposureBake:
             px[..., :3] = (np.maximum(Yg, 0.0) * LUX_PER_BAKE_UNIT)[..., None]
             px[..., 3] = 1.0
             image.pixels.foreach_set(px.ravel())
+
+    def _finish_atlas(self, atlas):
+        """Once an atlas's last group is baked: finish its maps as one object's (denoise,
+        3D filter, lux), then cut each object's map out of them (:func:`.batch.cut`)."""
+        entries = self.batches.maps.pop(atlas.name)
+        self._finish_maps(self.batches.objects[atlas.name],
+                          [image for _, image, _ in entries.values()])
+        for name, maps in _batch.cut(self.state, self.scene, atlas, entries).items():
+            self.maps.setdefault(name, {}).update(maps)
 
     def _report_progress(self, step):
         done_work = sum(self.work[:self.done])
@@ -322,7 +347,7 @@ class ExposureBake:
 
 
 def bake_exposure(context_or_scene, objects=None, settings=None, report=None, progress=None,
-                  cancel=None, only_changed=False):
+                  cancel=None, only_changed=False, batch=True):
     """Bake one illuminance map (lux) per (mesh, light group) pair.
 
     Parameters
@@ -341,6 +366,9 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
         Checked between bakes; True cancels (settings restored, no map stored).
     only_changed : bool
         Keep maps whose light group did not change; sum maps of groups that merged.
+    batch : bool or int
+        Bake the objects whose maps are at most :data:`.batch.BATCH_MAX_SIZE` (or this
+        number) wide together, in atlases (:mod:`.batch`); False: each on its own.
 
     Returns
     -------
@@ -355,7 +383,8 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
         Nothing to bake, no emitters, linked data, overlapping UVs from a modifier... (all
         problems, one per line); :class:`.common.BakeCancelled` when cancelled.
     """
-    job = ExposureBake(context_or_scene, objects, settings, report, progress, only_changed)
+    job = ExposureBake(context_or_scene, objects, settings, report, progress, only_changed,
+                       batch)
     job.plan()
     start = time.perf_counter()
     with job:

@@ -16,7 +16,7 @@ from ..pixels import resample
 from ..vocabulary import resolve_spectrum
 from . import daylight as _daylight
 from .common import EXPOSURE_PREFIX, LightFadeBakeError, exposure_image_name
-from .emitters import schedule_key, schedule_of
+from .emitters import memo, schedule_key, schedule_of
 from .uvmaps import remove_made_uv
 
 
@@ -115,10 +115,17 @@ def counting_schedule(scene, name, kind):
 def map_key(scene, obj, item):
     """The map's current ``(spectrum, uv filter, h/day, d/yr)`` key, or None when its
     emitters are gone or excluded.  Raises :class:`StaleExposureError` when they now differ."""
-    keys = set()
-    for name, kind in members(item):
-        schedule = counting_schedule(scene, name, kind)
-        keys.add(None if schedule is None else schedule_key(schedule, kind))
+    names = tuple(members(item))
+    known = memo(scene)
+    keys = known.get(("map_key", names)) if known is not None else None
+    if keys is None:
+        keys = set()
+        for name, kind in names:
+            schedule = counting_schedule(scene, name, kind)
+            keys.add(None if schedule is None else schedule_key(schedule, kind))
+        if known is not None:
+            known["map_key", names] = keys
+    keys = set(keys)
     if keys == {None}:
         return None
     if len(keys) > 1:

@@ -24,6 +24,9 @@ from .targets import find_targets, validate_targets
 LIST_LIMIT = 8
 
 _SIZE_CACHE = {}
+#: Sizes kept between redraws: more than a building's targets (at 512 a scene of 1000
+#: objects planned every map again at each redraw).
+SIZE_CACHE_LIMIT = 1 << 14
 
 
 def _size(obj, depsgraph, settings):
@@ -36,7 +39,7 @@ def _size(obj, depsgraph, settings):
            settings.resolution)
     if key not in _SIZE_CACHE:
         _SIZE_CACHE[key] = planned_map(obj, depsgraph, settings, diagnose=False)[0]
-        if len(_SIZE_CACHE) > 512:
+        if len(_SIZE_CACHE) > SIZE_CACHE_LIMIT:
             _SIZE_CACHE.clear()
     return _SIZE_CACHE[key]
 

@@ -24,6 +24,41 @@ def _candidates(tri, size):
     return lo[:, 0], lo[:, 1], extent[:, 0], extent[:, 1]
 
 
+def covered_texels(tri, size, strict=True):
+    """The texels each UV triangle covers, in chunks (memory bound).
+
+    Yields ``(t, flat)`` int arrays: triangle index and texel index ``row * size + col``
+    of every (triangle, texel) pair whose centre lies inside (strictly inside with
+    ``strict``, else also on an edge); see :func:`rasterise`.
+    """
+    tri = np.asarray(tri, dtype=np.float64)
+    if len(tri) == 0:
+        return
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    den = (b[:, 1] - c[:, 1]) * (a[:, 0] - c[:, 0]) + (c[:, 0] - b[:, 0]) * (a[:, 1] - c[:, 1])
+    x0, y0, w, h = _candidates(tri, size)
+    n = w * h
+    keep = np.flatnonzero((np.abs(den) > 1e-14) & (n > 0))
+    ends = np.cumsum(n[keep])
+    start = 0
+    while start < len(keep):
+        # as many triangles as fit the chunk (at least one)
+        base = ends[start] - n[keep[start]]
+        stop = max(int(np.searchsorted(ends, base + _CHUNK, side="right")), start + 1)
+        idx = keep[start:stop]
+        start = stop
+        t = np.repeat(idx, n[idx])
+        offset = np.arange(len(t)) - np.repeat(np.cumsum(n[idx]) - n[idx], n[idx])
+        col = x0[t] + offset % w[t]
+        row = y0[t] + offset // w[t]
+        px, py = (col + 0.5) / size, (row + 0.5) / size
+        l1 = ((b[t, 1] - c[t, 1]) * (px - c[t, 0]) + (c[t, 0] - b[t, 0]) * (py - c[t, 1])) / den[t]
+        l2 = ((c[t, 1] - a[t, 1]) * (px - c[t, 0]) + (a[t, 0] - c[t, 0]) * (py - c[t, 1])) / den[t]
+        eps = _EPS if strict else -_EPS
+        inside = (l1 > eps) & (l2 > eps) & (1.0 - l1 - l2 > eps)
+        yield t[inside], row[inside] * size + col[inside]
+
+
 def rasterise(tri, size, labels=None, strict=True):
     """Texels covered by UV triangles.
 
@@ -46,38 +81,12 @@ def rasterise(tri, size, labels=None, strict=True):
     label : (size, size) int32 array
         The label of a triangle covering the texel (-1 where none), when ``labels`` given.
     """
-    tri = np.asarray(tri, dtype=np.float64)
     count = np.zeros(size * size, dtype=np.int32)
     label = np.full(size * size, -1, dtype=np.int32) if labels is not None else None
-    if len(tri) == 0:
-        return count.reshape(size, size), None if label is None else label.reshape(size, size)
-    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
-    den = (b[:, 1] - c[:, 1]) * (a[:, 0] - c[:, 0]) + (c[:, 0] - b[:, 0]) * (a[:, 1] - c[:, 1])
-    x0, y0, w, h = _candidates(tri, size)
-    n = w * h
-    keep = np.flatnonzero((np.abs(den) > 1e-14) & (n > 0))
-    start = 0
-    while start < len(keep):
-        stop = start + 1
-        total = n[keep[start]]
-        while stop < len(keep) and total + n[keep[stop]] <= _CHUNK:
-            total += n[keep[stop]]
-            stop += 1
-        idx = keep[start:stop]
-        start = stop
-        t = np.repeat(idx, n[idx])
-        offset = np.arange(len(t)) - np.repeat(np.cumsum(n[idx]) - n[idx], n[idx])
-        col = x0[t] + offset % w[t]
-        row = y0[t] + offset // w[t]
-        px, py = (col + 0.5) / size, (row + 0.5) / size
-        l1 = ((b[t, 1] - c[t, 1]) * (px - c[t, 0]) + (c[t, 0] - b[t, 0]) * (py - c[t, 1])) / den[t]
-        l2 = ((c[t, 1] - a[t, 1]) * (px - c[t, 0]) + (a[t, 0] - c[t, 0]) * (py - c[t, 1])) / den[t]
-        eps = _EPS if strict else -_EPS
-        inside = (l1 > eps) & (l2 > eps) & (1.0 - l1 - l2 > eps)
-        flat = row[inside] * size + col[inside]
-        np.add.at(count, flat, 1)
+    for t, flat in covered_texels(tri, size, strict):
+        count += np.bincount(flat, minlength=size * size).astype(np.int32)
         if label is not None:
-            label[flat] = labels[t[inside]]
+            label[flat] = labels[t]
     count = count.reshape(size, size)
     return count, None if label is None else label.reshape(size, size)
 

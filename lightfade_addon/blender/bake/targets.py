@@ -48,7 +48,7 @@ def validate_targets(objects, unwrap):
         elif _is_linked(obj):
             problems.append(f"\"{obj.name}\" is linked from a library: make local first "
                             "(Object > Relations > Make Local)")
-        elif len(obj.data.polygons) == 0:
+        elif len(obj.data.polygons) == 0 and not obj.modifiers:  # modifiers may make faces
             warnings.append(f"Skipped \"{obj.name}\": mesh has no faces")
         elif not obj.data.uv_layers and not unwrap:
             warnings.append(f"Skipped \"{obj.name}\": it has no UV map; unwrap it (U) or bake "

@@ -25,6 +25,7 @@ import numpy as np
 
 from . import raster
 from .common import UV_MAP_NAME
+from .uvpack import overlaps, self_overlapping_islands
 
 #: Share of covered texels that may overlap (rasterisation round-off on shared edges).
 OVERLAP_TOLERANCE = 1e-3
@@ -133,9 +134,7 @@ def texel_geometry(obj, depsgraph, uv_name, size, margin):
 
 
 def _overlaps(tri, size):
-    count, _ = raster.rasterise(tri, size)
-    covered = np.count_nonzero(count)
-    return np.count_nonzero(count > 1) > max(2, OVERLAP_TOLERANCE * covered)
+    return overlaps(tri, size, OVERLAP_TOLERANCE)
 
 
 def _evaluated_overlaps(obj, depsgraph, uv_name, size):
@@ -215,19 +214,6 @@ def plan_uv(obj, depsgraph, size, diagnose=True):
 
 #: Gap between packed islands, in texels of the map (the bake margin fills it outward).
 PACK_GAP_TEXELS = 3
-
-
-def self_overlapping_islands(tri, island, size):
-    """Islands (labels) whose own triangles cover a texel twice at ``size``.
-
-    Islands that overlap *each other* (mirrored halves, stacked copies) are made unique by
-    packing alone; an island folded onto itself needs a new unwrap.
-    """
-    bad = []
-    for label in np.unique(island):
-        if _overlaps(tri[island == label], size):
-            bad.append(int(label))
-    return bad
 
 
 def _fit_unit_square(mesh, uv_name):
