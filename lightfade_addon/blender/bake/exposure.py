@@ -384,7 +384,7 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
         problems, one per line); :class:`.common.BakeCancelled` when cancelled.
     """
     job = ExposureBake(context_or_scene, objects, settings, report, progress, only_changed,
-                       batch)
+                       batch=batch)
     job.plan()
     start = time.perf_counter()
     with job:
