@@ -183,7 +183,7 @@ def plain_bake(job, samples, clamp, names=None, size=None):
         objects = [o for o in job.targets if names is None or o.name in names]
         nodes = {o.name: [_add_target_node(state, s.material) for s in o.material_slots]
                  for o in objects}
-        for step in job.steps:
+        for step in (s for s in job.steps if s.index == 0):  # one call per group
             with BakeState(scene, layer) as inner:
                 isolate(inner, scene, step.group)
                 images = {}

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
+from . import adaptive
 from . import daylight as _daylight
 from . import denoise as _denoise
 from . import filter3d
@@ -48,6 +49,8 @@ from .uvmaps import make_unique_uv, texel_geometry
 class _Step:
     group: object
     objects: list
+    #: Pass of the group's maps this bake adds (:mod:`.adaptive`; 0 for a fixed bake).
+    index: int = 0
 
 
 def scene_and_layer(context_or_scene):
@@ -119,13 +122,18 @@ class ExposureBake:
         for group in self.groups:
             names = set(group.member_names)
             objs = [o for o in targets if o.name not in names and not self._reusable(o, group)]
-            if objs:
-                self.steps.append(_Step(group, objs))
-        # an object's maps are finished together, after its last group's bake
-        self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
-        self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
-                     for s in self.steps]
+            for index in range(self.settings.first_passes if objs else 0):
+                self.steps.append(_Step(group, objs, index))
+        self.work = []
+        self._planned(self.steps)
         return self
+
+    def _planned(self, steps):
+        """Add ``steps`` to the work; an object's passes are finished together, after its
+        last step so far."""
+        self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
+        per_pass = self.settings.samples_per_pass()
+        self.work += [sum(self.sizes[o.name] ** 2 for o in s.objects) * per_pass for s in steps]
 
     def _plan_glass(self, scene, depsgraph, layer):
         """Windows (a portal over each while the sky is baked) and the refracting glass
@@ -162,9 +170,9 @@ class ExposureBake:
         return parts
 
     def estimate(self):
-        """:class:`.sizing.Estimate` of the planned bake."""
-        sizes = [[self.sizes[o.name] for o in s.objects] for s in self.steps]
-        return sizing.estimate(self.scene, sizes, self.settings.samples, self.settings.denoise)
+        """:class:`.sizing.Estimate` of the planned bake (a range for an adaptive one)."""
+        sizes = [[self.sizes[o.name] for o in s.objects] for s in self.steps if s.index == 0]
+        return sizing.estimate_for(self.scene, sizes, self.settings)
 
     def _warn(self, msg):
         self.skipped.append(msg)
@@ -193,10 +201,12 @@ class ExposureBake:
             layers = obj.data.uv_layers
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))
-        self.state.configure(self.settings.samples, self.settings.margin, self.settings.seed)
+        self.state.configure(self.settings.samples_per_pass(), self.settings.margin,
+                             self.settings.seed)
         self.nodes = attach_targets(self.state, self.targets)
-        self.geometry = {}
-        if self.settings.denoise:
+        self.geometry, self.colours = {}, {}
+        self.pending, self.passes, self.noise = {}, {}, {}
+        if self.settings.denoise or self.settings.adaptive:
             for obj in self.targets:
                 self.geometry[obj.name] = texel_geometry(
                     obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
@@ -209,21 +219,45 @@ class ExposureBake:
         return state.__exit__(exc_type, exc, tb)
 
     def step(self, cancel=None):
-        """Bake the next light group; False when all are done.  ``cancel()`` -> True
-        raises :class:`BakeCancelled` (between bakes)."""
+        """Bake the next light group (or pass of one); False when all are done.
+        ``cancel()`` -> True raises :class:`BakeCancelled` (between bakes)."""
         if cancel is not None and cancel():
             raise BakeCancelled("Bake cancelled: nothing was changed")
         if self.done == len(self.steps):
             return False
         step = self.steps[self.done]
+        if not self._out_of_time(step):
+            self._bake(step)
+        for obj in step.objects:
+            if self.last_step[obj.name] == self.done:
+                self._filter(obj)
+        self.done += 1
+        self._report_progress(step)
+        if self.done == len(self.steps) and not self._next_round():
+            self._write_maps()
+        return self.done < len(self.steps)
+
+    def _out_of_time(self, step):
+        """An extra pass (beyond the first ones) after ``max_seconds``: skipped."""
+        limit = self.settings.max_seconds
+        return (step.index >= self.settings.first_passes and limit > 0
+                and time.perf_counter() - self.start > limit)
+
+    def _bake(self, step):
+        """One Cycles call: pass ``step.index`` of ``step.group`` for ``step.objects``;
+        each map denoised (the raw bake's local mean kept) into :attr:`pending`."""
         with BakeState(self.scene, self.view_layer) as inner:
             isolate(inner, self.scene, step.group)
             if bakes_sky(step.group):
                 _portals.add_portals(inner, self.scene, self.windows)
             _panes.clear(inner, self.panes[step.group.name])
+            inner.set(self.scene.cycles, "seed",
+                      adaptive.pass_seed(self.settings.seed, step.group.name, step.index))
             images = {}
             for obj in step.objects:
-                image = self.state.new_image(f"{obj.name}_{step.group.name}", self.sizes[obj.name])
+                known = self.maps.get(obj.name, {}).get(step.group.name)
+                image = known[1] if known else self.state.new_image(
+                    f"{obj.name}_{step.group.name}", self.sizes[obj.name])
                 images[obj.name] = image
                 for node in self.nodes[obj.name]:
                     node.image = image
@@ -233,39 +267,116 @@ class ExposureBake:
                 _daylight.stamp(image, self.scene, step.group)
         for obj in step.objects:
             self.maps.setdefault(obj.name, {})[step.group.name] = (step.group, images[obj.name])
-            if self.last_step[obj.name] == self.done:
-                self._finish_maps(obj, [image for _, image in self.maps[obj.name].values()])
-        self.done += 1
-        self._report_progress(step)
-        return self.done < len(self.steps)
+            self.pending.setdefault(obj.name, []).append(
+                (step.group.name, self._denoised(obj, images[obj.name])))
 
-    def _finish_maps(self, obj, images):
-        """Once an object's last group is baked: denoise each of its maps (keeping the raw
-        bake's local mean), average them over their 3D neighbours on the surface (across
-        islands; one neighbour search for all of them), take the luminance, scale to lux:
-        RGB = lux, A = 1."""
-        n = images[0].size[0]
-        pixels = []
-        for image in images:
-            px = np.empty(n * n * 4, dtype=np.float32)
-            image.pixels.foreach_get(px)
-            pixels.append(px.reshape(n, n, 4))
-        Y = np.stack([luminance(px[..., :3]) for px in pixels])
+    def _denoised(self, obj, image):
+        """Luminance of the baked ``image`` (bake units), denoised when the settings say
+        so: OIDN guided by the islands, capped by the raw neighbours, the raw bake's
+        local mean kept (:mod:`.denoise`)."""
+        n = image.size[0]
+        px = np.empty(n * n * 4, dtype=np.float32)
+        image.pixels.foreach_get(px)
+        rgb = px.reshape(n, n, 4)[..., :3]
+        raw = luminance(rgb)
+        if not self.settings.denoise:
+            return raw.astype(np.float32)
+        geo = self.geometry[obj.name]
+        if obj.name not in self.colours:
+            self.colours[obj.name] = _denoise.island_colours(geo.island)
+        denoised = _denoise.denoise(rgb, self.colours[obj.name])
+        return _denoise.preserve_mean(luminance(_denoise.guard(denoised, rgb)), raw,
+                                      geo.island >= 0).astype(np.float32)
+
+    def _filter(self, obj):
+        """Average an object's pending maps over their 3D neighbours on the surface
+        (across islands; one neighbour search for all of them, every group and pass),
+        then over the bake margin: they join the object's finished passes."""
+        pending = self.pending.pop(obj.name, [])
+        if not pending:
+            return
+        Y = [y for _, y in pending]
         if self.settings.denoise:
             geo = self.geometry[obj.name]
-            inside = geo.island >= 0
-            colours = _denoise.island_colours(geo.island)
-            guide = np.stack([
-                _denoise.preserve_mean(luminance(_denoise.guard(
-                    _denoise.denoise(px[..., :3], colours), px[..., :3])), Yg, inside)
-                for px, Yg in zip(pixels, Y)])
-            Y = filter3d.smooth_on_surface(guide, guide, geo.position, geo.normal, geo.covered,
+            stack = np.stack(Y)
+            Y = filter3d.smooth_on_surface(stack, stack, geo.position, geo.normal, geo.covered,
                                            geo.texel)
-            Y = [filter3d.extend_over_margin(Yg, geo.covered, inside) for Yg in Y]
-        for image, px, Yg in zip(images, pixels, Y):
-            px[..., :3] = (np.maximum(Yg, 0.0) * LUX_PER_BAKE_UNIT)[..., None]
-            px[..., 3] = 1.0
-            image.pixels.foreach_set(px.ravel())
+            Y = [filter3d.extend_over_margin(y, geo.covered, geo.island >= 0) for y in Y]
+        for (group, _), y in zip(pending, Y):
+            self.passes.setdefault(obj.name, {}).setdefault(group, []).append(y)
+
+    def _next_round(self):
+        """Adaptive bakes: measure every map's error from its passes (:mod:`.adaptive`)
+        and plan more passes where it is above the target; True if any were planned."""
+        if not self.settings.adaptive:
+            return False
+        s, more = self.settings, {}
+        late = s.max_seconds > 0 and time.perf_counter() - self.start > s.max_seconds
+        for obj in self.targets:
+            for group, passes in self.passes.get(obj.name, {}).items():
+                found = self._measure(obj, group, passes)
+                want = adaptive.passes_wanted(found, s.noise_target, s.mean_target,
+                                              s.max_passes)
+                if want > found.passes and not late:
+                    more[(obj.name, group)] = (found.passes, want)
+        steps = []
+        for group in self.groups:
+            wanted = {o: more[(o.name, group.name)] for o in self.targets
+                      if (o.name, group.name) in more}
+            if not wanted:
+                continue
+            for index in range(min(k for k, _ in wanted.values()),
+                               max(w for _, w in wanted.values())):
+                objs = [o for o, (k, w) in wanted.items() if k <= index < w]
+                if objs:
+                    steps.append(_Step(group, objs, index))
+        self.steps += steps
+        self._planned(steps)
+        return bool(steps)
+
+    def _measure(self, obj, group, passes):
+        """:class:`.adaptive.Noise` of ``obj``'s map for ``group`` so far (kept for the
+        report); ``capped`` while it is above the target."""
+        s = self.settings
+        found = adaptive.noise(passes, self.geometry[obj.name].covered, s.samples_per_pass())
+        if found.p95 is not None:
+            found.capped = found.p95 > s.noise_target or (
+                s.mean_target > 0 and found.mean > s.mean_target)
+        self.noise[(obj.name, group)] = found
+        return found
+
+    def _write_maps(self):
+        """Every map: the mean of its finished passes, in lux (RGB = lux, A = 1); the
+        report names the noise each object reached and those that hit the cap."""
+        for obj_name, groups in self.passes.items():
+            for group, passes in groups.items():
+                image = self.maps[obj_name][group][1]
+                n = image.size[0]
+                px = np.empty((n, n, 4), dtype=np.float32)
+                lux = np.maximum(np.mean(passes, axis=0), 0.0) * LUX_PER_BAKE_UNIT
+                px[..., :3] = lux[..., None]
+                px[..., 3] = 1.0
+                image.pixels.foreach_set(px.ravel())
+        if self.settings.adaptive:
+            self._note(self._noise_note())
+
+    def _noise_note(self):
+        """One line per map: the noise it reached and the samples it took; then the maps
+        that hit the cap above the target, named."""
+        if not self.noise:
+            return ""
+        s = self.settings
+        cap = f"{s.max_passes * s.samples_per_pass()} spp" + (
+            f" or {sizing.format_seconds(s.max_seconds)}" if s.max_seconds else "")
+        lines = [f"Noise reached (target {s.noise_target:.0%} p95 per texel, object mean "
+                 f"±{s.mean_target:.1%}; cap {cap}):"]
+        for (obj, group), found in self.noise.items():
+            lines.append(f"  \"{obj}\" <- {group}: {found.text()}")
+        capped = [f"\"{obj}\" <- {group}" for (obj, group), f in self.noise.items() if f.capped]
+        if capped:
+            lines.append(f"Hit the cap ({cap}) above the target: {', '.join(capped)}; raise "
+                         "Max Samples or Max Minutes to bake them further")
+        return "\n".join(lines)
 
     def _report_progress(self, step):
         done_work = sum(self.work[:self.done])
@@ -273,6 +384,7 @@ class ExposureBake:
         elapsed = time.perf_counter() - self.start
         left = elapsed / fraction * (1 - fraction) if fraction > 0 else 0.0
         names = ", ".join(o.name for o in step.objects[:3]) + ("…" if len(step.objects) > 3 else "")
+        names += f" (pass {step.index + 1})" if self.settings.adaptive else ""
         message = (f"baked {names} <- {step.group.name} [{self.done}/{len(self.steps)}] "
                    f"{elapsed:.1f} s, ~{sizing.format_seconds(left)} left")
         if self.progress is not None:
@@ -294,9 +406,18 @@ class ExposureBake:
             for name, (group, image) in baked.items():
                 self.state.keep(image)
                 store_map(obj, group, image, self.uv_plans[obj.name].uv_name)
+                self._record_noise(obj, group)
             prune_maps(obj, kept | set(baked))
             result[obj.name] = {item.name: item.image for item in obj.lightfade.exposure_maps}
         return result
+
+    def _record_noise(self, obj, group):
+        """The noise and samples of ``obj``'s new map for ``group``, on its record."""
+        item = obj.lightfade.exposure_maps[group.name]
+        found = self.noise.get((obj.name, group.name))
+        passes = len(self.passes.get(obj.name, {}).get(group.name, ()))
+        item.samples = passes * self.settings.samples_per_pass()
+        item.noise = found.p95 if found is not None and found.p95 is not None else 0.0
 
     def _merge(self, obj, group, parts):
         """Sum existing maps into ``group``'s map (a regroup without a bake)."""
@@ -342,7 +463,9 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
     -------
     dict
         ``{"maps": {object: {group: Image}}, "skipped": [messages], "notes": [messages],
-        "groups": [(group, [emitters])], "emitters": [(name, kind)], "seconds": float}``.
+        "groups": [(group, [emitters])], "emitters": [(name, kind)], "seconds": float,
+        "noise": {(object, group): adaptive.Noise}}`` (adaptive bakes: the error each map
+        reached, its samples, whether it hit the cap).
         Image pixels are lux (R = G = B = luminance of the irradiance).
 
     Raises
@@ -367,5 +490,6 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
         "groups": [(g.name, g.member_names) for g in job.groups],
         "emitters": [(e.name, e.kind) for e in job.emitters],
         "seconds": time.perf_counter() - start,
+        "noise": dict(job.noise),
     }
 
