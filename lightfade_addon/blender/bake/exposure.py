@@ -290,8 +290,9 @@ class ExposureBake:
 
     def _filter(self, obj):
         """Average an object's pending maps over their 3D neighbours on the surface
-        (across islands; one neighbour search for all of them, every group and pass),
-        then over the bake margin: they join the object's finished passes."""
+        (across islands; one neighbour search for all of them, every group and pass;
+        the passes of a group with the range weight of their mean, computed once), then
+        over the bake margin: they join the object's finished passes."""
         pending = self.pending.pop(obj.name, [])
         if not pending:
             return
@@ -299,8 +300,13 @@ class ExposureBake:
         if self.settings.denoise:
             geo = self.geometry[obj.name]
             stack = np.stack(Y)
-            Y = filter3d.smooth_on_surface(stack, stack, geo.position, geo.normal, geo.covered,
-                                           geo.texel)
+            # the new passes of one group share one range weight: their mean's
+            groups = list(dict.fromkeys(group for group, _ in pending))
+            guide_of = [groups.index(group) for group, _ in pending]
+            guide = np.stack([stack[[j for j, r in enumerate(guide_of) if r == i]].mean(axis=0)
+                              for i in range(len(groups))])
+            Y = filter3d.smooth_on_surface(stack, guide, geo.position, geo.normal, geo.covered,
+                                           geo.texel, guide_of=guide_of)
             Y = [filter3d.extend_over_margin(y, geo.covered, geo.island >= 0) for y in Y]
         for (group, _), y in zip(pending, Y):
             self.passes.setdefault(obj.name, {}).setdefault(group, []).append(y)
