@@ -189,3 +189,23 @@ def test_the_estimate_is_a_range_from_the_first_passes_to_the_cap(two_lights):
         assert "up to" in est.text()
     finally:
         del sizing.CALIBRATION[bpy.context.scene.session_uid]
+
+
+def test_the_scene_settings_carry_the_presets_target_and_the_cap(two_lights):
+    from lightfade_addon import api
+    from lightfade_addon.blender.bake.presets import PRESETS
+
+    scene = bpy.context.scene
+    scene.lightfade_bake.quality = "FINAL"
+    scene.lightfade.bake_resolution = 32
+    settings = BakeSettings.from_scene(scene)
+    final = PRESETS["FINAL"]
+    assert (settings.noise_target, settings.mean_target, settings.pass_samples) == (
+        final.noise_target, final.mean_target, final.pass_samples)
+    assert (settings.first_passes, settings.max_passes) == (2, 128 // 4)
+    floor, wall = two_lights
+    result = api.bake(scene, [wall], max_samples=8, density=16)
+    assert scene.lightfade_bake.max_samples == 8
+    assert result["noise"][("Wall", "Bulb")].samples == 8
+    scene.lightfade_bake.quality = "CUSTOM"
+    assert not BakeSettings.from_scene(scene).adaptive
