@@ -209,3 +209,13 @@ def test_the_scene_settings_carry_the_presets_target_and_the_cap(two_lights):
     assert result["noise"][("Wall", "Bulb")].samples == 8
     scene.lightfade_bake.quality = "CUSTOM"
     assert not BakeSettings.from_scene(scene).adaptive
+
+
+def test_max_minutes_stops_the_extra_passes_and_names_the_map(two_lights):
+    floor, wall = two_lights
+    notes = []
+    soon = BakeSettings(**{**ADAPTIVE.__dict__, "max_seconds": 1e-6})
+    result = bake_exposure(bpy.context.scene, [wall], soon, **_quiet(notes))
+    found = result["noise"][("Wall", "Bulb")]
+    assert (found.passes, found.capped) == (2, True)
+    assert "or 0 s" in notes[-1] and '"Wall" <- Bulb' in notes[-1].splitlines()[-1]
