@@ -7,9 +7,10 @@ few samples, each pass with its own seed (:func:`pass_seed`), finishes every pas
 same way the bake finishes a map (denoised, the raw mean kept, 3D-filtered), and takes
 the mean of the finished passes as the map.  Independent passes give the bake its own
 error (:func:`noise`): the spread of the finished passes says how far their mean can be
-from a converged bake.  After the first passes (:data:`MIN_PASSES`) each (object, group)
-whose error is above the target gets more passes (:func:`passes_wanted`), until it
-reaches the target or the cap on samples (or on time) that the artist sets.
+from a converged bake.  After the first passes (:data:`MIN_PASSES`, of a few samples each) each (object, group)
+whose error is above the target gets one more pass per round, of as many samples as it
+lacks (:func:`samples_wanted`), until it reaches the target or the cap on samples (or on
+time) that the artist sets: a few rounds, so a few denoisings, however many samples.
 
 The error of a mean of ``K`` independent passes ``F_k`` of equal variance ``σ²`` is
 distributed as each Helmert contrast ``h_j / √K``::
@@ -18,8 +19,9 @@ distributed as each Helmert contrast ``h_j / √K``::
 
 so their pooled values, relative to the mean map at lit texels, give the 95th percentile
 of the map's relative error directly, with no assumption on the shape of the noise
-across texels.  The error of the object's mean lux is the standard deviation of the
-passes' means over ``√K``.
+across texels (passes of different samples: the mean weighted by them, each pass against
+the weighted mean of those before it, :func:`error_contrasts`).  The error of the
+object's mean lux is the root mean square of the same contrasts of the passes' means.
 
 Seeds depend only on the base seed, the group's name and the pass: a bake split by
 object chunks (a farm) gives every object the passes, and so the maps, of the whole
@@ -93,55 +95,71 @@ class Noise:
                 f"{self.samples} spp in {self.passes} passes{cap}")
 
 
-def error_contrasts(passes):
-    """Helmert contrasts of ``K`` passes scaled by ``1/√K``: ``(K − 1, …)``, each
-    distributed as the error of the passes' mean (module docstring)."""
+def error_contrasts(passes, samples=None):
+    """Helmert contrasts of ``K`` passes, each distributed as the error of the passes'
+    mean: ``(K − 1, …)`` (module docstring).
+
+    ``samples``: the samples of each pass (default equal); the mean is then weighted by
+    them and pass ``j`` is compared with the weighted mean of the passes before it,
+    ``(M_j − F_j) √((1/N) / (1/S_j + 1/n_j))`` (``S_j`` their samples, ``N`` all), the
+    noise of a pass taken as ∝ 1/√samples.
+    """
     F = np.asarray(passes, dtype=np.float64)
-    k = len(F)
-    out = np.empty((k - 1,) + F.shape[1:])
-    total = F[0].copy()
-    for j in range(1, k):
-        out[j - 1] = (total - j * F[j]) / math.sqrt(j * (j + 1) * k)
-        total += F[j]
+    n = np.ones(len(F)) if samples is None else np.asarray(samples, dtype=np.float64)
+    total = n.sum()
+    out = np.empty((len(F) - 1,) + F.shape[1:])
+    acc, weight = n[0] * F[0], n[0]
+    for j in range(1, len(F)):
+        out[j - 1] = (acc / weight - F[j]) * math.sqrt((1.0 / total) / (1.0 / weight + 1.0 / n[j]))
+        acc += n[j] * F[j]
+        weight += n[j]
     return out
 
 
-def noise(passes, covered, pass_samples):
-    """:class:`Noise` of the mean of ``passes`` (finished maps, ``(K, H, W)``) over the
-    ``covered`` texels.  Dark maps (nothing lit) have no error."""
+def mean_map(passes, samples):
+    """The map: the passes' mean, weighted by their samples."""
+    n = np.asarray(samples, dtype=np.float64)
+    return np.tensordot(n / n.sum(), np.asarray(passes, dtype=np.float64), axes=1)
+
+
+def noise(passes, covered, samples):
+    """:class:`Noise` of the mean of ``passes`` (finished maps, ``(K, H, W)``; ``samples``
+    per pass, a list, or one number for all) over the ``covered`` texels.  Dark maps
+    (nothing lit) have no error."""
     F = np.asarray(passes, dtype=np.float64)[:, np.asarray(covered, bool)]
     k = len(F)
-    result = Noise(k, k * int(pass_samples))
+    n = np.broadcast_to(np.asarray(samples, dtype=np.float64), (k,))
+    result = Noise(k, int(n.sum()))
     if k < 2:
         return result
-    mean_map = F.mean(axis=0)
-    top = np.percentile(mean_map, 99) if mean_map.size else 0.0
+    mean = mean_map(F, n)
+    top = np.percentile(mean, 99) if mean.size else 0.0
     if top <= 0:
         result.p95, result.mean = 0.0, 0.0
         return result
-    lit = mean_map >= LIT_SHARE * top
+    lit = mean >= LIT_SHARE * top
     means = F.mean(axis=1)
-    result.mean = float(means.std(ddof=1) / math.sqrt(k) / max(means.mean(), 1e-30))
+    spread = error_contrasts(means, n)
+    result.mean = float(np.sqrt(np.mean(spread ** 2)) / max(float(mean_map(means, n)), 1e-30))
     if np.count_nonzero(lit) < MIN_LIT:
         result.p95 = 0.0
         return result
-    rel = np.abs(error_contrasts(F[:, lit])) / mean_map[lit]
+    rel = np.abs(error_contrasts(F[:, lit], n)) / mean[lit]
     result.p95 = float(np.percentile(rel, 95))
     return result
 
 
-def passes_wanted(found, target, mean_target, max_passes):
-    """Passes the (object, group) of :class:`Noise` ``found`` should have in all.
-
-    Error falls as ``1/√passes``: ``K · max(p95 / target, mean / mean_target)²``, at most
-    :data:`MAX_GROWTH` × ``K`` in one round and ``max_passes`` in all.  ``found.passes``
-    when it is at the target (or at the cap).
+def samples_wanted(found, target, mean_target, max_samples, step=4):
+    """Samples per texel the (object, group) of :class:`Noise` ``found`` should have in
+    all: error falls as ``1/√samples``, so ``N · max(p95 / target, mean / mean_target)²``,
+    a multiple of ``step``, at most :data:`MAX_GROWTH` × ``N`` in one round and
+    ``max_samples`` in all; ``found.samples`` when it is at the target (or the cap).
     """
-    k = found.passes
+    have = found.samples
     if found.p95 is None:
-        return k
+        return have
     ratio = max(found.p95 / target, found.mean / mean_target if mean_target else 0.0)
     if ratio <= 1.0:
-        return k
-    want = math.ceil(k * ratio ** 2)
-    return int(max(k, min(want, MAX_GROWTH * k, max_passes)))
+        return have
+    want = math.ceil(have * ratio ** 2 / step) * step
+    return int(max(have, min(want, MAX_GROWTH * have, max_samples)))

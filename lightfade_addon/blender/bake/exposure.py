@@ -51,6 +51,8 @@ class _Step:
     objects: list
     #: Pass of the group's maps this bake adds (:mod:`.adaptive`; 0 for a fixed bake).
     index: int = 0
+    #: Its samples per texel (None: the settings' per pass).
+    samples: int | None = None
 
 
 def scene_and_layer(context_or_scene):
@@ -132,8 +134,11 @@ class ExposureBake:
         """Add ``steps`` to the work; an object's passes are finished together, after its
         last step so far."""
         self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
-        per_pass = self.settings.samples_per_pass()
-        self.work += [sum(self.sizes[o.name] ** 2 for o in s.objects) * per_pass for s in steps]
+        self.work += [sum(self.sizes[o.name] ** 2 for o in s.objects) * self._samples(s)
+                      for s in steps]
+
+    def _samples(self, step):
+        return step.samples or self.settings.samples_per_pass()
 
     def _plan_glass(self, scene, depsgraph, layer):
         """Windows (a portal over each while the sky is baked) and the refracting glass
@@ -253,6 +258,7 @@ class ExposureBake:
             _panes.clear(inner, self.panes[step.group.name])
             inner.set(self.scene.cycles, "seed",
                       adaptive.pass_seed(self.settings.seed, step.group.name, step.index))
+            inner.set(self.scene.cycles, "samples", self._samples(step))
             images = {}
             for obj in step.objects:
                 known = self.maps.get(obj.name, {}).get(step.group.name)
@@ -268,7 +274,7 @@ class ExposureBake:
         for obj in step.objects:
             self.maps.setdefault(obj.name, {})[step.group.name] = (step.group, images[obj.name])
             self.pending.setdefault(obj.name, []).append(
-                (step.group.name, self._denoised(obj, images[obj.name])))
+                (step.group.name, self._samples(step), self._denoised(obj, images[obj.name])))
 
     def _denoised(self, obj, image):
         """Luminance of the baked ``image`` (bake units), denoised when the settings say
@@ -296,24 +302,25 @@ class ExposureBake:
         pending = self.pending.pop(obj.name, [])
         if not pending:
             return
-        Y = [y for _, y in pending]
+        Y = [y for _, _, y in pending]
         if self.settings.denoise:
             geo = self.geometry[obj.name]
             stack = np.stack(Y)
             # the new passes of one group share one range weight: their mean's
-            groups = list(dict.fromkeys(group for group, _ in pending))
-            guide_of = [groups.index(group) for group, _ in pending]
+            groups = list(dict.fromkeys(group for group, _, _ in pending))
+            guide_of = [groups.index(group) for group, _, _ in pending]
             guide = np.stack([stack[[j for j, r in enumerate(guide_of) if r == i]].mean(axis=0)
                               for i in range(len(groups))])
             Y = filter3d.smooth_on_surface(stack, guide, geo.position, geo.normal, geo.covered,
                                            geo.texel, guide_of=guide_of)
             Y = [filter3d.extend_over_margin(y, geo.covered, geo.island >= 0) for y in Y]
-        for (group, _), y in zip(pending, Y):
-            self.passes.setdefault(obj.name, {}).setdefault(group, []).append(y)
+        for (group, samples, _), y in zip(pending, Y):
+            self.passes.setdefault(obj.name, {}).setdefault(group, []).append((samples, y))
 
     def _next_round(self):
         """Adaptive bakes: measure every map's error from its passes (:mod:`.adaptive`)
-        and plan more passes where it is above the target; True if any were planned."""
+        and plan one more pass, of the samples it lacks, for each map above the target;
+        True if any were planned."""
         if not self.settings.adaptive:
             return False
         s, more = self.settings, {}
@@ -321,21 +328,13 @@ class ExposureBake:
         for obj in self.targets:
             for group, passes in self.passes.get(obj.name, {}).items():
                 found = self._measure(obj, group, passes)
-                want = adaptive.passes_wanted(found, s.noise_target, s.mean_target,
-                                              s.max_passes)
-                if want > found.passes and not late:
-                    more[(obj.name, group)] = (found.passes, want)
-        steps = []
-        for group in self.groups:
-            wanted = {o: more[(o.name, group.name)] for o in self.targets
-                      if (o.name, group.name) in more}
-            if not wanted:
-                continue
-            for index in range(min(k for k, _ in wanted.values()),
-                               max(w for _, w in wanted.values())):
-                objs = [o for o, (k, w) in wanted.items() if k <= index < w]
-                if objs:
-                    steps.append(_Step(group, objs, index))
+                want = adaptive.samples_wanted(found, s.noise_target, s.mean_target,
+                                               s.cap_samples, s.samples_per_pass())
+                if want > found.samples and not late:
+                    more.setdefault((group, found.passes, want - found.samples), []).append(obj)
+        steps = [_Step(g, objs, index, extra) for g in self.groups
+                 for (name, index, extra), objs in sorted(more.items(), key=lambda kv: kv[0][1:])
+                 if name == g.name]
         self.steps += steps
         self._planned(steps)
         return bool(steps)
@@ -344,7 +343,8 @@ class ExposureBake:
         """:class:`.adaptive.Noise` of ``obj``'s map for ``group`` so far (kept for the
         report); ``capped`` while it is above the target."""
         s = self.settings
-        found = adaptive.noise(passes, self.geometry[obj.name].covered, s.samples_per_pass())
+        found = adaptive.noise([y for _, y in passes], self.geometry[obj.name].covered,
+                               [n for n, _ in passes])
         if found.p95 is not None:
             found.capped = found.p95 > s.noise_target or (
                 s.mean_target > 0 and found.mean > s.mean_target)
@@ -352,15 +352,16 @@ class ExposureBake:
         return found
 
     def _write_maps(self):
-        """Every map: the mean of its finished passes, in lux (RGB = lux, A = 1); the
-        report names the noise each object reached and those that hit the cap."""
+        """Every map: the mean of its finished passes weighted by their samples, in lux
+        (RGB = lux, A = 1); the report names the noise each object reached and those
+        that hit the cap."""
         for obj_name, groups in self.passes.items():
             for group, passes in groups.items():
                 image = self.maps[obj_name][group][1]
                 n = image.size[0]
                 px = np.empty((n, n, 4), dtype=np.float32)
-                lux = np.maximum(np.mean(passes, axis=0), 0.0) * LUX_PER_BAKE_UNIT
-                px[..., :3] = lux[..., None]
+                mean = adaptive.mean_map([y for _, y in passes], [k for k, _ in passes])
+                px[..., :3] = (np.maximum(mean, 0.0) * LUX_PER_BAKE_UNIT)[..., None]
                 px[..., 3] = 1.0
                 image.pixels.foreach_set(px.ravel())
         if self.settings.adaptive:
@@ -372,7 +373,7 @@ class ExposureBake:
         if not self.noise:
             return ""
         s = self.settings
-        cap = f"{s.max_passes * s.samples_per_pass()} spp" + (
+        cap = f"{s.cap_samples} spp" + (
             f" or {sizing.format_seconds(s.max_seconds)}" if s.max_seconds else "")
         lines = [f"Noise reached (target {s.noise_target:.0%} p95 per texel, object mean "
                  f"±{s.mean_target:.1%}; cap {cap}):"]
@@ -421,8 +422,7 @@ class ExposureBake:
         """The noise and samples of ``obj``'s new map for ``group``, on its record."""
         item = obj.lightfade.exposure_maps[group.name]
         found = self.noise.get((obj.name, group.name))
-        passes = len(self.passes.get(obj.name, {}).get(group.name, ()))
-        item.samples = passes * self.settings.samples_per_pass()
+        item.samples = sum(n for n, _ in self.passes.get(obj.name, {}).get(group.name, ()))
         item.noise = found.p95 if found is not None and found.p95 is not None else 0.0
 
     def _merge(self, obj, group, parts):

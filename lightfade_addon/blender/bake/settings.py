@@ -74,11 +74,22 @@ class BakeSettings:
         return max(2, int(self.samples) // max(int(self.pass_samples), 1))
 
     @property
-    def max_passes(self):
-        """Passes of a map at the cap."""
+    def cap_samples(self):
+        """Samples per texel of a map at the cap (at least the first passes')."""
         if not self.adaptive:
-            return 1
-        return max(self.first_passes, int(self.max_samples) // max(int(self.pass_samples), 1))
+            return int(self.samples)
+        return max(self.first_passes * int(self.pass_samples), int(self.max_samples))
+
+    @property
+    def most_passes(self):
+        """Passes of a map at the cap: the first ones, then one a round, each round at
+        most :data:`.adaptive.MAX_GROWTH` × the samples so far."""
+        from .adaptive import MAX_GROWTH
+
+        passes, samples = self.first_passes, self.first_passes * self.samples_per_pass()
+        while samples < self.cap_samples:
+            passes, samples = passes + 1, samples * MAX_GROWTH
+        return passes
 
     def samples_per_pass(self):
         return int(self.pass_samples) if self.adaptive else int(self.samples)

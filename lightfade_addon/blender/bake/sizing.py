@@ -150,8 +150,8 @@ def estimate_for(scene, sizes_by_group, settings):
                    settings.first_passes)
     if not settings.adaptive:
         return low
-    high = estimate(scene, sizes_by_group, per_pass * settings.max_passes, settings.denoise,
-                    settings.max_passes)
+    high = estimate(scene, sizes_by_group, settings.cap_samples, settings.denoise,
+                    settings.most_passes)
     low.texel_samples_max = high.texel_samples
     low.seconds_max = high.seconds
     if high.seconds is not None and settings.max_seconds > 0:
