@@ -148,7 +148,7 @@ def test_the_map_is_the_mean_of_the_passes_and_a_lower_cap_stops_sooner(two_ligh
     with job:
         while job.step():
             pass
-        passes = job.passes["Wall"]["Bulb"]
+        passes = job.passes.passes["Wall"]["Bulb"]
         maps = job.commit()
     assert [n for n, _ in passes] == [2, 2, 12]
     from lightfade_addon.blender.bake.common import LUX_PER_BAKE_UNIT

@@ -7,8 +7,8 @@ few samples, each pass with its own seed (:func:`pass_seed`), finishes every pas
 same way the bake finishes a map (denoised, the raw mean kept, 3D-filtered), and takes
 the mean of the finished passes as the map.  Independent passes give the bake its own
 error (:func:`noise`): the spread of the finished passes says how far their mean can be
-from a converged bake.  After the first passes (:data:`MIN_PASSES`, of a few samples each) each (object, group)
-whose error is above the target gets one more pass per round, of as many samples as it
+from a converged bake.  After the first passes (:data:`MIN_PASSES`, of a few samples
+each) each (object, group) whose error is above the target gets one more pass per round, of as many samples as it
 lacks (:func:`samples_wanted`), until it reaches the target or the cap on samples (or on
 time) that the artist sets: a few rounds, so a few denoisings, however many samples.
 
@@ -163,3 +163,27 @@ def samples_wanted(found, target, mean_target, max_samples, step=4):
         return have
     want = math.ceil(have * ratio ** 2 / step) * step
     return int(max(have, min(want, MAX_GROWTH * have, max_samples)))
+
+
+def noise_note(noise, settings):
+    """The bake's report: one line per map (``noise``: ``{(object, group): Noise}``) with
+    the noise it reached and the samples it took; then the maps that hit the cap above
+    the target, named.  '' without maps."""
+    if not noise:
+        return ""
+    s = settings
+    cap = f"{s.cap_samples} spp" + (
+        f" or {_seconds(s.max_seconds)}" if s.max_seconds else "")
+    lines = [f"Noise reached (target {s.noise_target:.0%} p95 per texel, object mean "
+             f"±{s.mean_target:.1%}; cap {cap}):"]
+    for (obj, group), found in noise.items():
+        lines.append(f"  \"{obj}\" <- {group}: {found.text()}")
+    capped = [f"\"{obj}\" <- {group}" for (obj, group), f in noise.items() if f.capped]
+    if capped:
+        lines.append(f"Hit the cap ({cap}) above the target: {', '.join(capped)}; raise "
+                     "Max Samples or Max Minutes to bake them further")
+    return "\n".join(lines)
+
+
+def _seconds(s):
+    return f"{s:.0f} s" if s < 90 else f"{s / 60:.1f} min"

@@ -1,17 +1,16 @@
 """The exposure bake: one illuminance map (lux) per object and light group, with Cycles.
 
-For each light group (:mod:`.emitters`) every other emitter is switched off and one
-Cycles call bakes the DIFFUSE pass (direct + indirect light, no colour) of all target
-objects at once, each into its own float image through a node added to its real
-materials (:mod:`.targets`), whose baked texels read as a Lambertian (:mod:`.surface`):
-the light arriving, whatever the material.  Each map is then denoised (:mod:`.denoise`), turned into
-the luminance of the irradiance in lux (:mod:`.common`) and, once every group is done,
-stored on the objects (:mod:`.maps`).  Everything the bake changes is put back by
-:class:`.state.BakeState`, also on error or cancel; a cancelled bake stores nothing.
-
-Before any Cycles work, every object is checked (:mod:`.uvmaps`) and all problems are
-reported at once.
-"""
+For each light group (:mod:`.emitters`) every other emitter is switched off and Cycles
+bakes the DIFFUSE pass (direct + indirect light, no colour) of all target objects at
+once, each into its own float image through a node added to its real materials
+(:mod:`.targets`), whose baked texels read as a Lambertian (:mod:`.surface`): the light
+arriving, whatever the material.  A group is baked in passes (:mod:`.adaptive`: one
+for a fixed bake; more where a map is above its noise target), each finished as a map
+(:mod:`.passes`: denoised, 3D-filtered), the map their mean in lux; once every group is
+done the maps are stored on the objects (:mod:`.maps`).  Everything the bake changes is
+put back by :class:`.state.BakeState`, also on error or cancel; a cancelled bake stores
+nothing.  Before any Cycles work, every object is checked (:mod:`.uvmaps`) and all
+problems are reported at once."""
 
 from __future__ import annotations
 
@@ -23,12 +22,10 @@ import numpy as np
 
 from . import adaptive
 from . import daylight as _daylight
-from . import denoise as _denoise
-from . import filter3d
 from . import panes as _panes
 from . import portals as _portals
 from . import sizing
-from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
+from .common import BakeCancelled, LightFadeBakeError
 from .emitters import (
     bakes_sky,
     group_emitters,
@@ -38,10 +35,10 @@ from .emitters import (
     uncounted_note,
 )
 from .maps import members, prune_maps, store_map
+from .passes import Passes
 from .settings import BakeSettings
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
-from .sizing import planned_map
 from .uvmaps import make_unique_uv, texel_geometry
 
 
@@ -106,7 +103,7 @@ class ExposureBake:
         depsgraph = bpy.context.evaluated_depsgraph_get()
         self.sizes, self.uv_plans = {}, {}
         for obj in targets:
-            size, plan = planned_map(obj, depsgraph, self.settings)
+            size, plan = sizing.planned_map(obj, depsgraph, self.settings)
             if isinstance(plan, str):
                 problems.append(plan)
             else:
@@ -209,13 +206,13 @@ class ExposureBake:
         self.state.configure(self.settings.samples_per_pass(), self.settings.margin,
                              self.settings.seed)
         self.nodes = attach_targets(self.state, self.targets)
-        self.geometry, self.colours = {}, {}
-        self.pending, self.passes, self.noise = {}, {}, {}
+        self.geometry = {}
         if self.settings.denoise or self.settings.adaptive:
             for obj in self.targets:
                 self.geometry[obj.name] = texel_geometry(
                     obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
                     self.settings.margin)
+        self.passes = Passes(self.settings, self.geometry)
         self.done = 0
         self.start = time.perf_counter()
 
@@ -231,22 +228,18 @@ class ExposureBake:
         if self.done == len(self.steps):
             return False
         step = self.steps[self.done]
-        if not self._out_of_time(step):
+        limit = self.settings.max_seconds       # extra passes start before the time cap
+        if not (step.index >= self.settings.first_passes and 0 < limit
+                < time.perf_counter() - self.start):
             self._bake(step)
         for obj in step.objects:
             if self.last_step[obj.name] == self.done:
-                self._filter(obj)
+                self.passes.finish(obj.name)
         self.done += 1
         self._report_progress(step)
         if self.done == len(self.steps) and not self._next_round():
             self._write_maps()
         return self.done < len(self.steps)
-
-    def _out_of_time(self, step):
-        """An extra pass (beyond the first ones) after ``max_seconds``: skipped."""
-        limit = self.settings.max_seconds
-        return (step.index >= self.settings.first_passes and limit > 0
-                and time.perf_counter() - self.start > limit)
 
     def _bake(self, step):
         """One Cycles call: pass ``step.index`` of ``step.group`` for ``step.objects``;
@@ -273,49 +266,7 @@ class ExposureBake:
                 _daylight.stamp(image, self.scene, step.group)
         for obj in step.objects:
             self.maps.setdefault(obj.name, {})[step.group.name] = (step.group, images[obj.name])
-            self.pending.setdefault(obj.name, []).append(
-                (step.group.name, self._samples(step), self._denoised(obj, images[obj.name])))
-
-    def _denoised(self, obj, image):
-        """Luminance of the baked ``image`` (bake units), denoised when the settings say
-        so: OIDN guided by the islands, capped by the raw neighbours, the raw bake's
-        local mean kept (:mod:`.denoise`)."""
-        n = image.size[0]
-        px = np.empty(n * n * 4, dtype=np.float32)
-        image.pixels.foreach_get(px)
-        rgb = px.reshape(n, n, 4)[..., :3]
-        raw = luminance(rgb)
-        if not self.settings.denoise:
-            return raw.astype(np.float32)
-        geo = self.geometry[obj.name]
-        if obj.name not in self.colours:
-            self.colours[obj.name] = _denoise.island_colours(geo.island)
-        denoised = _denoise.denoise(rgb, self.colours[obj.name])
-        return _denoise.preserve_mean(luminance(_denoise.guard(denoised, rgb)), raw,
-                                      geo.island >= 0).astype(np.float32)
-
-    def _filter(self, obj):
-        """Average an object's pending maps over their 3D neighbours on the surface
-        (across islands; one neighbour search for all of them, every group and pass;
-        the passes of a group with the range weight of their mean, computed once), then
-        over the bake margin: they join the object's finished passes."""
-        pending = self.pending.pop(obj.name, [])
-        if not pending:
-            return
-        Y = [y for _, _, y in pending]
-        if self.settings.denoise:
-            geo = self.geometry[obj.name]
-            stack = np.stack(Y)
-            # the new passes of one group share one range weight: their mean's
-            groups = list(dict.fromkeys(group for group, _, _ in pending))
-            guide_of = [groups.index(group) for group, _, _ in pending]
-            guide = np.stack([stack[[j for j, r in enumerate(guide_of) if r == i]].mean(axis=0)
-                              for i in range(len(groups))])
-            Y = filter3d.smooth_on_surface(stack, guide, geo.position, geo.normal, geo.covered,
-                                           geo.texel, guide_of=guide_of)
-            Y = [filter3d.extend_over_margin(y, geo.covered, geo.island >= 0) for y in Y]
-        for (group, samples, _), y in zip(pending, Y):
-            self.passes.setdefault(obj.name, {}).setdefault(group, []).append((samples, y))
+            self.passes.add(obj.name, step.group.name, self._samples(step), images[obj.name])
 
     def _next_round(self):
         """Adaptive bakes: measure every map's error from its passes (:mod:`.adaptive`)
@@ -323,71 +274,26 @@ class ExposureBake:
         True if any were planned."""
         if not self.settings.adaptive:
             return False
-        s, more = self.settings, {}
-        late = s.max_seconds > 0 and time.perf_counter() - self.start > s.max_seconds
-        for obj in self.targets:
-            for group, passes in self.passes.get(obj.name, {}).items():
-                found = self._measure(obj, group, passes)
-                want = adaptive.samples_wanted(found, s.noise_target, s.mean_target,
-                                               s.cap_samples, s.samples_per_pass())
-                if want > found.samples and not late:
-                    more.setdefault((group, found.passes, want - found.samples), []).append(obj)
-        steps = [_Step(g, objs, index, extra) for g in self.groups
-                 for (name, index, extra), objs in sorted(more.items(), key=lambda kv: kv[0][1:])
-                 if name == g.name]
+        more = self.passes.wanted(self.targets)    # measures every map, also when late
+        late = 0 < self.settings.max_seconds < time.perf_counter() - self.start
+        steps = [] if late else [_Step(g, objs, index, extra) for g in self.groups for (
+            name, index, extra), objs in sorted(more.items(), key=lambda kv: kv[0][1:])
+            if name == g.name]
         self.steps += steps
         self._planned(steps)
         return bool(steps)
 
-    def _measure(self, obj, group, passes):
-        """:class:`.adaptive.Noise` of ``obj``'s map for ``group`` so far (kept for the
-        report); ``capped`` while it is above the target."""
-        s = self.settings
-        found = adaptive.noise([y for _, y in passes], self.geometry[obj.name].covered,
-                               [n for n, _ in passes])
-        if found.p95 is not None:
-            found.capped = found.p95 > s.noise_target or (
-                s.mean_target > 0 and found.mean > s.mean_target)
-        self.noise[(obj.name, group)] = found
-        return found
-
     def _write_maps(self):
-        """Every map: the mean of its finished passes weighted by their samples, in lux
-        (RGB = lux, A = 1); the report names the noise each object reached and those
-        that hit the cap."""
-        for obj_name, groups in self.passes.items():
-            for group, passes in groups.items():
-                image = self.maps[obj_name][group][1]
-                n = image.size[0]
-                px = np.empty((n, n, 4), dtype=np.float32)
-                mean = adaptive.mean_map([y for _, y in passes], [k for k, _ in passes])
-                px[..., :3] = (np.maximum(mean, 0.0) * LUX_PER_BAKE_UNIT)[..., None]
-                px[..., 3] = 1.0
-                image.pixels.foreach_set(px.ravel())
+        """Every map from its passes; the report names the noise each map reached and
+        those that hit the cap."""
+        for obj_name, groups in self.passes.passes.items():
+            for group in groups:
+                self.passes.write(self.maps[obj_name][group][1], obj_name, group)
         if self.settings.adaptive:
-            self._note(self._noise_note())
-
-    def _noise_note(self):
-        """One line per map: the noise it reached and the samples it took; then the maps
-        that hit the cap above the target, named."""
-        if not self.noise:
-            return ""
-        s = self.settings
-        cap = f"{s.cap_samples} spp" + (
-            f" or {sizing.format_seconds(s.max_seconds)}" if s.max_seconds else "")
-        lines = [f"Noise reached (target {s.noise_target:.0%} p95 per texel, object mean "
-                 f"±{s.mean_target:.1%}; cap {cap}):"]
-        for (obj, group), found in self.noise.items():
-            lines.append(f"  \"{obj}\" <- {group}: {found.text()}")
-        capped = [f"\"{obj}\" <- {group}" for (obj, group), f in self.noise.items() if f.capped]
-        if capped:
-            lines.append(f"Hit the cap ({cap}) above the target: {', '.join(capped)}; raise "
-                         "Max Samples or Max Minutes to bake them further")
-        return "\n".join(lines)
+            self._note(adaptive.noise_note(self.passes.noise, self.settings))
 
     def _report_progress(self, step):
-        done_work = sum(self.work[:self.done])
-        fraction = done_work / max(sum(self.work), 1)
+        fraction = sum(self.work[:self.done]) / max(sum(self.work), 1)
         elapsed = time.perf_counter() - self.start
         left = elapsed / fraction * (1 - fraction) if fraction > 0 else 0.0
         names = ", ".join(o.name for o in step.objects[:3]) + ("…" if len(step.objects) > 3 else "")
@@ -413,17 +319,10 @@ class ExposureBake:
             for name, (group, image) in baked.items():
                 self.state.keep(image)
                 store_map(obj, group, image, self.uv_plans[obj.name].uv_name)
-                self._record_noise(obj, group)
+                self.passes.record(obj.lightfade.exposure_maps[group.name], obj.name, group.name)
             prune_maps(obj, kept | set(baked))
             result[obj.name] = {item.name: item.image for item in obj.lightfade.exposure_maps}
         return result
-
-    def _record_noise(self, obj, group):
-        """The noise and samples of ``obj``'s new map for ``group``, on its record."""
-        item = obj.lightfade.exposure_maps[group.name]
-        found = self.noise.get((obj.name, group.name))
-        item.samples = sum(n for n, _ in self.passes.get(obj.name, {}).get(group.name, ()))
-        item.noise = found.p95 if found is not None and found.p95 is not None else 0.0
 
     def _merge(self, obj, group, parts):
         """Sum existing maps into ``group``'s map (a regroup without a bake)."""
@@ -496,6 +395,6 @@ def bake_exposure(context_or_scene, objects=None, settings=None, report=None, pr
         "groups": [(g.name, g.member_names) for g in job.groups],
         "emitters": [(e.name, e.kind) for e in job.emitters],
         "seconds": time.perf_counter() - start,
-        "noise": dict(job.noise),
+        "noise": dict(job.passes.noise),
     }
 

@@ -69,9 +69,11 @@ class BakeSettings:
     @property
     def first_passes(self):
         """Passes every map gets: one for a fixed bake."""
+        from .adaptive import MIN_PASSES
+
         if not self.adaptive:
             return 1
-        return max(2, int(self.samples) // max(int(self.pass_samples), 1))
+        return max(MIN_PASSES, int(self.samples) // max(int(self.pass_samples), 1))
 
     @property
     def cap_samples(self):
