@@ -204,7 +204,7 @@ def probe(job):
     with BakeState(scene, layer) as state:
         state.configure(job.settings.samples, job.settings.margin, job.settings.seed)
         nodes = attach_targets(state, job.targets)
-        for step in job.steps:
+        for step in (s for s in job.steps if s.index == 0):  # one call per group
             with BakeState(scene, layer) as inner:
                 isolate(inner, scene, step.group)
                 for obj in step.objects:

@@ -16,6 +16,8 @@ baked, in this order and on the same UV maps (the first bake makes them), with
 
 * the default quality (Final preset), seeds 0 … ``--seeds`` − 1 (each is one draw of
   the noise: the figures of one seed can pass where the next one's do not),
+* a fixed bake of 8 samples (Custom quality, denoised: the Final preset before the
+  adaptive bake), seed 0, for the time and noise side by side,
 * ``--samples`` samples per texel (Custom quality, denoised), seed 0,
 * ``--reference`` samples per texel (Custom quality, denoised), the seeds after the
   default's: the first is the reference (independent of the bakes above: another seed
@@ -31,7 +33,10 @@ object's 99th-percentile lux.  Printed per object and bake:
   metres of it in 3D whose normals face the same way (dot > 0.5), in both bakes: what
   is left is blotches, not grain;
 * the share of the map inside its UV islands;
-* wall and CPU seconds of each bake (all objects), and their ratio to the default's;
+* the bake's own estimate of its noise (adaptive bakes: p95 per lit texel, the error
+  of the object's mean, samples and passes spent, whether it hit the cap);
+* wall and CPU seconds of each bake (all objects), and their ratio to the default's and
+  to the fixed 8-sample bake's;
 * the panel's estimate of the default bake (map sizes, seconds after Calibrate) against
   the sizes and time the bake made.
 
@@ -145,6 +150,7 @@ def bake(scene, objects, quality, samples, save=None, seed=0):
                                                     report=lambda m: None,
                                                     progress=lambda f, m: None))
     maps = {name: next(iter(m.values())) for name, m in result["maps"].items()}
+    noise = {obj: found for (obj, _), found in result.get("noise", {}).items()}
     values = {}
     for obj in objects:
         image = maps[obj.name]
@@ -152,7 +158,8 @@ def bake(scene, objects, quality, samples, save=None, seed=0):
             Path(save).mkdir(parents=True, exist_ok=True)
             save_png(image, Path(save) / f"{obj.name}_{quality.lower()}_{samples}_{seed}.png")
         centre, normal, uv = surface_points(obj, obj.lightfade.uv_map)
-        values[obj.name] = (read_map(image, uv), centre, normal, image.size[0])
+        values[obj.name] = (read_map(image, uv), centre, normal, image.size[0],
+                            noise.get(obj.name))
     return values, wall, cpu
 
 
@@ -227,6 +234,7 @@ def main():
     cache = Path(args.reference_cache) if args.reference_cache else None
     cached = cache is not None and cache.exists()
     runs = [(f"default (Final) seed {k}", "FINAL", 8, k) for k in range(max(args.seeds, 1))]
+    runs.append(("fixed 8 (old Final)", "CUSTOM", 8, 0))
     if args.samples:
         runs.append((f"{args.samples} samples", "CUSTOM", args.samples, 0))
     if not cached:
@@ -255,24 +263,30 @@ def main():
           f"{scene.lightfade.bake_resolution}², daylight 52° N; points: polygon centres, lit "
           f">= 5 % of p99; 3D radius {args.radius} m; reference: {refs[0][0]}")
     for obj in objects:
-        r_val, centre, normal, size = ref[obj.name]
+        r_val, centre, normal, size = ref[obj.name][:4]
         lit = r_val >= 0.05 * np.percentile(r_val, 99)
         r_smooth = smooth(r_val, centre, normal, args.radius)
         print(f"\n{obj.name}: {size}² map on \"{obj.lightfade.uv_map}\" "
               f"({fill(obj, obj.lightfade.uv_map, size):.0%} of it in islands), "
               f"{lit.sum()} lit points of {len(r_val)}, reference median "
               f"{np.median(r_val[lit]):,.0f} lx")
-        print(f"{'bake':<22} {'p95 point':>10} {'p95 3D':>8} {'median':>8}")
+        print(f"{'bake':<22} {'p95 point':>10} {'p95 3D':>8} {'median':>8}   "
+              "the bake's own estimate")
         for label, values, _, _ in results:
             if values is ref:
                 continue
             p95, p95_3d, med = compare(values[obj.name][0], r_val, lit, centre, normal,
                                        args.radius, r_smooth)
-            print(f"{label:<22} {p95:>10.1%} {p95_3d:>8.1%} {med:>8.1%}")
+            found = values[obj.name][4] if len(values[obj.name]) > 4 else None
+            print(f"{label:<22} {p95:>10.1%} {p95_3d:>8.1%} {med:>8.1%}   "
+                  + (found.text() if found is not None else ""))
     wall0, cpu0 = results[0][2], results[0][3]
-    print(f"\n{'bake':<22} {'wall s':>8} {'CPU s':>8} {'CPU ÷ default':>14}")
+    fixed = next(r for r in results if r[0].startswith("fixed 8"))
+    print(f"\n{'bake':<22} {'wall s':>8} {'CPU s':>8} {'CPU ÷ default':>14} {'÷ fixed 8':>10}"
+          f" {'wall ÷ fixed 8':>15}")
     for label, _, wall, cpu in results:
-        print(f"{label:<22} {wall:>8.1f} {cpu:>8.1f} {cpu / cpu0:>14.2f}")
+        print(f"{label:<22} {wall:>8.1f} {cpu:>8.1f} {cpu / cpu0:>14.2f} {cpu / fixed[3]:>10.2f}"
+              f" {wall / fixed[2]:>15.2f}")
     sizes, est = estimate
     made = {name: v[3] for name, v in first.items()}
     print(f"estimate before the bake: sizes {sizes}, {est.text()}; the default bake made "

@@ -6,6 +6,7 @@ Usage (from the repository root; about 3 minutes on 2 cores, ``--quick`` under o
     python benchmarks/shades.py --timing     # the cost only, each bake twice, alternated
     python benchmarks/shades.py --seeds      # rug and poster, same seed as a plain bake
     python benchmarks/shades.py --draws 5    # the default bake at seeds 0-4: its spread
+    python benchmarks/shades.py --clean      # the panel alone: adaptive against fixed 8
 
 A 4 × 4 m room (floor, two walls, ceiling, a sofa), a rug on the floor and a poster on the
 wall, lit by three light groups:
@@ -22,12 +23,14 @@ wall, lit by three light groups:
 Targets: floor, rug, poster, walls and the three shades.  Floor, rug, poster and walls are
 plain Diffuse BSDFs, so that a plain Cycles DIFFUSE bake of them (no colour) *is* their
 irradiance.  Printed per group and object: the mean lux of LightFade's default bake (Final
-preset: 8 samples, denoised), of a plain Cycles bake at 128 samples without sample
-clamping (the reference), and of the same plain bake with Blender's default clamp (10 on
-indirect light); the largest difference of 8 × 8-block means against the reference (blocks
-above a tenth of the object's mean); and the time of LightFade's bake against a plain bake
-at LightFade's samples and sizes (one Cycles call per group, same images: the issue's
-"plain bake").
+preset: adaptive, passes of 4 samples until each map's noise is at its target), of the
+same bake at a fixed 8 samples (the Final preset before), of a plain Cycles bake at 512
+samples without sample clamping (the reference, converged), and of the same plain bake
+with Blender's default clamp (10 on indirect light); the largest difference of 8 ×
+8-block means against the reference (blocks above a tenth of the object's mean); the
+default's own estimate of its noise and the samples it spent; and the time of both
+LightFade bakes against a plain bake at 8 samples and LightFade's sizes (one Cycles call
+per group, same images: the issue's "plain bake").
 """
 
 import argparse
@@ -183,7 +186,7 @@ def plain_bake(job, samples, clamp, names=None, size=None):
         objects = [o for o in job.targets if names is None or o.name in names]
         nodes = {o.name: [_add_target_node(state, s.material) for s in o.material_slots]
                  for o in objects}
-        for step in job.steps:
+        for step in (s for s in job.steps if s.index == 0):  # one call per group
             with BakeState(scene, layer) as inner:
                 isolate(inner, scene, step.group)
                 images = {}
@@ -243,32 +246,52 @@ def main():
                         help="LightFade's default bake at seeds 0 ... N-1 against the one "
                              "reference: each seed's difference, their mean and spread")
     parser.add_argument("--timing", action="store_true",
-                        help="only the cost: LightFade and the plain bake, alternated twice")
+                        help="only the cost: LightFade (adaptive and fixed 8) and the plain "
+                             "bake, alternated twice")
+    parser.add_argument("--clean", action="store_true",
+                        help="only the ceiling panel (a scene clean at the first passes): "
+                             "the adaptive bake's cost against the fixed 8-sample bake, "
+                             "alternated twice")
     args = parser.parse_args()
     from lightfade_addon.blender.bake import BakeSettings, ExposureBake, bake_exposure
 
     targets = room()
     scene = bpy.context.scene
+    if args.clean:
+        for obj in [o for o in scene.objects if o.type == "LIGHT" and o.name != "Panel"]:
+            bpy.data.objects.remove(obj)
     settings = BakeSettings.from_scene(scene)
     settings.texels_per_metre = 64 if args.quick else 128
+    fixed = BakeSettings(**{**settings.__dict__, "noise_target": None, "samples": 8})
     ref_samples = 128 if args.quick else REF_SAMPLES
     quiet = {"progress": lambda f, m: None, "report": lambda m: None}
-    job = ExposureBake(scene, targets, settings, **quiet).plan()
+    job = ExposureBake(scene, targets, fixed, **quiet).plan()
     print(f"Lampshade room: {len(targets)} targets, groups "
           f"{[(g.name, g.member_names) for g in job.groups]}, "
-          f"{sum(job.sizes[o.name] ** 2 for o in targets) / 1e6:.2f} M texels; "
-          f"LightFade {settings.samples} samples (denoised), reference {ref_samples}")
+          f"{sum(job.sizes[o.name] ** 2 for o in targets) / 1e6:.2f} M texels; LightFade "
+          f"default (Final, adaptive: passes of {settings.pass_samples}, target "
+          f"{settings.noise_target:.0%} p95 / ±{settings.mean_target:.1%} mean, cap "
+          f"{settings.max_samples} spp) and fixed 8 samples (denoised), reference "
+          f"{ref_samples}")
     if args.seeds:
         same_seed(targets, quiet)
         return
-    if args.timing:
-        cost = np.zeros((2, 2))  # (LightFade, plain) x (wall, CPU)
+    if args.timing or args.clean:
+        bakes = {"LightFade default (adaptive)": lambda: bake_exposure(scene, targets, settings,
+                                                                       **quiet),
+                 "LightFade fixed 8": lambda: bake_exposure(scene, targets, fixed, **quiet)}
+        if args.timing:
+            bakes["plain Cycles, 8 samples"] = lambda: plain_bake(job, 8, 0.0)
+        cost = {name: np.zeros(2) for name in bakes}  # (wall, CPU)
         for _ in range(2):
-            cost[0] += timed(lambda: bake_exposure(scene, targets, settings, **quiet))[1:]
-            cost[1] += timed(lambda: plain_bake(job, settings.samples, 0.0))[1:]
-        print(f"two runs each, alternated: LightFade {cost[0, 0]:.1f} s wall, {cost[0, 1]:.1f} s "
-              f"CPU; plain {cost[1, 0]:.1f} s wall, {cost[1, 1]:.1f} s CPU; LightFade / plain: "
-              f"wall {cost[0, 0] / cost[1, 0]:.2f}, CPU {cost[0, 1] / cost[1, 1]:.2f}")
+            for name, fn in bakes.items():
+                cost[name] += timed(fn)[1:]
+        base = cost["LightFade fixed 8"]
+        print(f"{'two runs each, alternated':<32}{'wall s':>8}{'CPU s':>8}{'wall ÷ fixed':>14}"
+              f"{'CPU ÷ fixed':>13}")
+        for name, (wall, cpu) in cost.items():
+            print(f"{name:<32}{wall:>8.1f}{cpu:>8.1f}{wall / base[0]:>14.2f}"
+                  f"{cpu / base[1]:>13.2f}")
         return
 
     def means(maps):  # read at once: the next bake writes into the same images
@@ -280,39 +303,47 @@ def main():
         settings.seed = seed
         draws.append(means(bake_exposure(scene, targets, settings, **quiet)["maps"]))
     settings.seed = 0
+    fx, fx_wall, fx_cpu = timed(lambda: bake_exposure(scene, targets, fixed, **quiet))
+    fixed_means = means(fx["maps"])
     result, lf_wall, lf_cpu = timed(lambda: bake_exposure(scene, targets, settings, **quiet))
     draws.insert(0, means(result["maps"]))
-    _, pl_wall, pl_cpu = timed(lambda: plain_bake(job, settings.samples, 0.0))
+    _, pl_wall, pl_cpu = timed(lambda: plain_bake(job, fixed.samples, 0.0))
     ref = plain_bake(job, ref_samples, 0.0, RECEIVERS, REF_SIZE)
     clamped = plain_bake(job, ref_samples // 4, 10.0, RECEIVERS, REF_SIZE)
-    print(f"{'group':<22}{'object':<12}{'LightFade':>11}{'plain ref':>11}{'LF/ref':>9}"
-          f"{'blocks max':>12}{'clamp 10/ref':>14}")
-    worst = 0.0
+    print(f"{'group':<22}{'object':<12}{'default':>10}{'plain ref':>11}{'default/ref':>12}"
+          f"{'fixed 8/ref':>12}{'blocks max':>12}{'clamp 10/ref':>14}   default's own estimate")
+    worst, worst_fixed = 0.0, 0.0
     spread = []
     for group, by_obj in ref.items():
         for name in RECEIVERS:
             lf = pixels(result["maps"][name][group])[..., 0]
             r, c = by_obj[name], clamped[group][name]
             ratio = lf.mean() / r.mean()
+            ratio_fixed = fixed_means[group, name] / r.mean()
             bl, br = blocks(lf), blocks(r)  # 8 × 8 blocks of either size
             lit = br > 0.1 * r.mean()
             block = np.max(np.abs(bl[lit] / br[lit] - 1.0)) if lit.any() else 0.0
             worst = max(worst, abs(ratio - 1.0))
-            print(f"{group:<22}{name:<12}{lf.mean():>11.1f}{r.mean():>11.1f}{ratio - 1:>+9.2%}"
-                  f"{block:>12.1%}{c.mean() / r.mean() - 1:>+14.2%}")
+            worst_fixed = max(worst_fixed, abs(ratio_fixed - 1.0))
+            found = result["noise"].get((name, group))
+            print(f"{group:<22}{name:<12}{lf.mean():>10.1f}{r.mean():>11.1f}{ratio - 1:>+12.2%}"
+                  f"{ratio_fixed - 1:>+12.2%}{block:>12.1%}{c.mean() / r.mean() - 1:>+14.2%}   "
+                  + (found.text() if found else ""))
             spread.append((group, name, [d[group, name] / r.mean() - 1.0 for d in draws]))
     if len(draws) > 1:
-        print(f"\nLightFade against the reference at seeds 0-{len(draws) - 1} (one seed is "
+        print(f"\nThe default against the reference at seeds 0-{len(draws) - 1} (one seed is "
               "one draw of the noise):")
         for group, name, d in spread:
             d = np.array(d)
             print(f"{group:<22}{name:<12}" + " ".join(f"{x:+7.2%}" for x in d)
                   + f"   mean {d.mean():+.2%}, sd {d.std(ddof=1):.2%}")
-    print(f"worst floor/rug/poster mean: {worst:.2%} (target <= 2 %)")
-    print(f"{'bake':<34}{'wall s':>8}{'CPU s':>8}")
-    print(f"{'LightFade (Final, denoised)':<34}{lf_wall:>8.1f}{lf_cpu:>8.1f}")
-    print(f"{'plain Cycles, same samples/sizes':<34}{pl_wall:>8.1f}{pl_cpu:>8.1f}")
-    print(f"LightFade / plain: wall {lf_wall / pl_wall:.2f}, CPU {lf_cpu / pl_cpu:.2f} (target <= 1.2)")
+    print(f"worst floor/rug/poster mean: default {worst:.2%}, fixed 8 {worst_fixed:.2%} "
+          "(target <= 2 %)")
+    print(f"{'bake':<34}{'wall s':>8}{'CPU s':>8}{'CPU ÷ fixed 8':>15}")
+    for label, wall, cpu in (("LightFade default (adaptive)", lf_wall, lf_cpu),
+                             ("LightFade fixed 8", fx_wall, fx_cpu),
+                             ("plain Cycles, 8 samples", pl_wall, pl_cpu)):
+        print(f"{label:<34}{wall:>8.1f}{cpu:>8.1f}{cpu / fx_cpu:>15.2f}")
 
 
 if __name__ == "__main__":

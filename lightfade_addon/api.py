@@ -39,13 +39,16 @@ def _scene(scene):
 
 
 def bake(scene=None, objects=None, resolution=None, samples=None, margin=None, unwrap=False,
-         progress=None, quality=None, density=None):
+         progress=None, quality=None, density=None, max_samples=None, max_minutes=None):
     """Bake exposure maps for ``objects`` (default: meshes whose materials are enabled).
 
     ``quality`` is ``"PREVIEW"``, ``"FINAL"`` or ``"CUSTOM"`` (default: the scene's, FINAL
     in a new file); ``samples`` counts only with ``"CUSTOM"`` quality. ``density`` is the
     map density in texels per metre and ``resolution`` the largest map size.
-    Returns the :func:`.blender.bake.bake_exposure` result dict (maps per object).
+    ``max_samples`` and ``max_minutes`` are the cap of the FINAL quality's adaptive bake
+    (samples per texel of any map; no further pass after so long).
+    Returns the :func:`.blender.bake.bake_exposure` result dict (maps per object, and
+    ``"noise"``: the error each map reached and the samples it took).
     """
     from .blender.bake import BakeSettings, bake_exposure
 
@@ -61,6 +64,10 @@ def bake(scene=None, objects=None, resolution=None, samples=None, margin=None, u
         scene.lightfade_bake.quality = quality
     if density is not None:
         scene.lightfade_bake.texels_per_metre = float(density)
+    if max_samples is not None:
+        scene.lightfade_bake.max_samples = int(max_samples)
+    if max_minutes is not None:
+        scene.lightfade_bake.max_minutes = float(max_minutes)
     settings = BakeSettings.from_scene(scene, unwrap=unwrap)
     return bake_exposure(scene, list(objects or []), settings, report=print, progress=progress)
 

@@ -19,7 +19,10 @@ Modules, one job each:
 ``settings`` the settings of one bake (preset, density, seed, portals)
 ``portals``  temporary light portals over windows while the sky is baked
 ``panes``    refracting window glass shown as a clear pane while the sky is baked
-``exposure`` the bake loop (one Cycles call per group), :func:`bake_exposure`
+``adaptive`` passes until each map reaches its noise target: seeds, error, samples wanted
+``passes``   each map's passes, denoised and 3D-filtered as the map; their mean in lux
+``exposure`` the bake loop (Cycles calls per group and pass): :class:`ExposureBake`
+``run``      :func:`bake_exposure`, a whole bake in one call
 ``calibration`` tiny bakes that give the estimate its rate
 ``maps``     storing maps; reading them back for aging; signature; removal
 ``panel``    the Exposure Bake panel's contents
@@ -35,7 +38,8 @@ from .common import (
 )
 from .emitters import Emitter, LightGroup, find_emitters, find_groups, group_emitters
 from .calibration import calibrate
-from .exposure import ExposureBake, bake_exposure
+from .exposure import ExposureBake
+from .run import bake_exposure
 from .settings import BakeSettings
 from .maps import (
     StaleExposureError,

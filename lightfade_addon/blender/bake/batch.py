@@ -339,16 +339,12 @@ def crop(pixels, cell):
 
 
 class Batches:
-    """The atlases of one bake (:func:`plan_for`), their temporary meshes and maps.
+    """The atlases of one bake (:func:`plan_for`) and their temporary meshes."""
 
-    ``last_step``: the index of each object's last bake step; an atlas is finished
-    after the last step of any of its objects."""
-
-    def __init__(self, targets, sizes, groups, margin, batch, last_step):
+    def __init__(self, targets, sizes, groups, margin, batch):
         self.atlases = plan_for(targets, sizes, groups, margin, batch)
         self.of = {name: atlas for atlas in self.atlases for name in atlas.cells}
-        self.last = {a.name: max(last_step.get(n, -1) for n in a.cells) for a in self.atlases}
-        self.objects, self.maps = {}, {}
+        self.objects = {}
 
     def stand_in(self, state, targets, uv_plans, depsgraph, scene, view_layer):
         """Build the temporary meshes (:func:`stand_in`); returns the depsgraph to use."""
@@ -370,10 +366,26 @@ class Batches:
         atlases = {self.of[o.name].name: self.of[o.name] for o in objects if o.name in self.of}
         return alone, [(a, self.objects[a.name]) for a in atlases.values()]
 
-    def record(self, atlas, group, image, objects, step):
-        """Keep ``atlas``'s map ``image`` of ``group`` for ``objects`` (those of the step
-        in it); True when this ``step`` is the atlas's last."""
+    def units(self, objects, sizes):
+        """What one Cycles call bakes for ``objects``: ``[(key, baked object, map width,
+        [object names])]``, each object on its own (key: its name) or an atlas's temporary
+        object for those of ``objects`` in it (key: the temporary object's name)."""
+        alone, atlases = self.split(objects)
         names = {o.name for o in objects}
-        self.maps.setdefault(atlas.name, {})[group.name] = (
-            group, image, [n for n in atlas.cells if n in names])
-        return self.last[atlas.name] == step
+        return [(o.name, o, sizes[o.name], [o.name]) for o in alone] + [
+            (obj.name, obj, a.size, [n for n in a.cells if n in names]) for a, obj in atlases]
+
+    def key(self, name):
+        """The key of the maps object ``name`` is baked in (:meth:`units`)."""
+        atlas = self.of.get(name)
+        return name if atlas is None else self.objects[atlas.name].name
+
+    def atlas_of(self, key):
+        """The :class:`Atlas` baked as the temporary object ``key``; None for an object."""
+        return next((a for a in self.atlases if self.objects[a.name].name == key), None)
+
+    def per_object(self, by_key, baked):
+        """``{(key, group): value}`` as ``{(object name, group): value}``: an atlas's value
+        for each object baked in it (``baked[key][group]``: ``(group, image, names)``)."""
+        return {(name, group): value for (key, group), value in by_key.items()
+                for name in baked[key][group][2]}

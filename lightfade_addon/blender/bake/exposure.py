@@ -1,17 +1,16 @@
 """The exposure bake: one illuminance map (lux) per object and light group, with Cycles.
 
-For each light group (:mod:`.emitters`) every other emitter is switched off and one
-Cycles call bakes the DIFFUSE pass (direct + indirect light, no colour) of all target
-objects at once, each into its own float image through a node added to its real
-materials (:mod:`.targets`), whose baked texels read as a Lambertian (:mod:`.surface`):
-the light arriving, whatever the material.  Each map is then denoised (:mod:`.denoise`), turned into
-the luminance of the irradiance in lux (:mod:`.common`) and, once every group is done,
-stored on the objects (:mod:`.maps`).  Everything the bake changes is put back by
-:class:`.state.BakeState`, also on error or cancel; a cancelled bake stores nothing.
-
-Before any Cycles work, every object is checked (:mod:`.uvmaps`) and all problems are
-reported at once.
-"""
+For each light group (:mod:`.emitters`) every other emitter is switched off and Cycles
+bakes the DIFFUSE pass (direct + indirect light, no colour) of all target objects at
+once, each into its own float image through a node added to its real materials
+(:mod:`.targets`), whose baked texels read as a Lambertian (:mod:`.surface`): the light
+arriving, whatever the material.  A group is baked in passes (:mod:`.adaptive`: one
+for a fixed bake; more where a map is above its noise target), each finished as a map
+(:mod:`.passes`: denoised, 3D-filtered), the map their mean in lux; once every group is
+done the maps are stored on the objects (:mod:`.maps`).  Everything the bake changes is
+put back by :class:`.state.BakeState`, also on error or cancel; a cancelled bake stores
+nothing.  Before any Cycles work, every object is checked (:mod:`.uvmaps`) and all
+problems are reported at once.  :func:`.run.bake_exposure` runs a whole bake in one call."""
 
 from __future__ import annotations
 
@@ -21,15 +20,14 @@ from dataclasses import dataclass
 import bpy
 import numpy as np
 
+from . import adaptive
 from . import batch as _batch
 from . import daylight as _daylight
-from . import denoise as _denoise
-from . import filter3d
 from . import geometry as _geometry
 from . import panes as _panes
 from . import portals as _portals
 from . import sizing
-from .common import LUX_PER_BAKE_UNIT, BakeCancelled, LightFadeBakeError, luminance
+from .common import BakeCancelled, LightFadeBakeError
 from .emitters import (
     bakes_sky,
     group_emitters,
@@ -39,6 +37,7 @@ from .emitters import (
     uncounted_note,
 )
 from .maps import members, prune_maps, store_map
+from .passes import Passes
 from .settings import BakeSettings
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
@@ -49,6 +48,10 @@ from .uvmaps import make_unique_uv, texel_geometry
 class _Step:
     group: object
     objects: list
+    #: Pass of the group's maps this bake adds (:mod:`.adaptive`; 0 for a fixed bake).
+    index: int = 0
+    #: Its samples per texel (None: the settings' per pass).
+    samples: int | None = None
 
 
 def scene_and_layer(context_or_scene):
@@ -78,6 +81,8 @@ class ExposureBake:
         self.skipped, self.notes = [], []
         self.state = None
         self.maps = {}  # object name -> {group name: temp image}
+        self.baked = {}  # baked object name (an object, an atlas) -> {group: (group, image, names)}
+        self.noise = {}  # (object name, group name) -> adaptive.Noise (adaptive bakes)
         self.reused = {}  # object name -> group names kept as they were
 
     # ------------------------------------------------------------------ planning
@@ -125,16 +130,24 @@ class ExposureBake:
                 continue
             names = set(group.member_names)
             objs = [o for o in targets if o.name not in names and not self._reusable(o, group)]
-            if objs:
-                self.steps.append(_Step(group, objs))
-        # an object's maps are finished together, after its last group's bake
-        self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
-        self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
-                     for s in self.steps]
+            for index in range(self.settings.first_passes if objs else 0):
+                self.steps.append(_Step(group, objs, index))
+        self.work = []
+        self._planned(self.steps)
         # small objects baked together, one temporary mesh and atlas per batch
         self.batches = _batch.Batches(targets, self.sizes, self.groups, self.settings.margin,
-                                      self.batch, self.last_step)
+                                      self.batch)
         return self
+
+    def _planned(self, steps):
+        """Add ``steps`` to the work; an object's passes are finished together, after its
+        last step so far."""
+        self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
+        self.work += [sum(self.sizes[o.name] ** 2 for o in s.objects) * self._samples(s)
+                      for s in steps]
+
+    def _samples(self, step):
+        return step.samples or self.settings.samples_per_pass()
 
     def _plan_glass(self, scene, depsgraph, layer):
         """Windows (a portal over each while the sky is baked) and the refracting glass
@@ -171,9 +184,9 @@ class ExposureBake:
         return parts
 
     def estimate(self):
-        """:class:`.sizing.Estimate` of the planned bake."""
-        sizes = [[self.sizes[o.name] for o in s.objects] for s in self.steps]
-        return sizing.estimate(self.scene, sizes, self.settings.samples, self.settings.denoise)
+        """:class:`.sizing.Estimate` of the planned bake (a range for an adaptive one)."""
+        sizes = [[self.sizes[o.name] for o in s.objects] for s in self.steps if s.index == 0]
+        return sizing.estimate_for(self.scene, sizes, self.settings)
 
     def _warn(self, msg):
         self.skipped.append(msg)
@@ -203,18 +216,20 @@ class ExposureBake:
             layers = obj.data.uv_layers
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))
-        self.state.configure(self.settings.samples, self.settings.margin, self.settings.seed)
+        self.state.configure(self.settings.samples_per_pass(), self.settings.margin,
+                             self.settings.seed)
         depsgraph = self.batches.stand_in(self.state, self.targets, self.uv_plans, depsgraph,
                                           self.scene, self.view_layer)
         alone, atlases = self.batches.split(self.targets)
         self.nodes = attach_targets(self.state, alone + [obj for _, obj in atlases])
         self.geometry = {}
-        if self.settings.denoise:
+        if self.settings.denoise or self.settings.adaptive:
             for obj in alone:
                 self.geometry[obj.name] = texel_geometry(
                     obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
                     self.settings.margin)
             self.geometry.update(self.batches.geometry(depsgraph, self.settings.margin))
+        self.passes = Passes(self.settings, self.geometry)
         self.done = 0
         self.start = time.perf_counter()
 
@@ -223,85 +238,100 @@ class ExposureBake:
         return state.__exit__(exc_type, exc, tb)
 
     def step(self, cancel=None):
-        """Bake the next light group; False when all are done.  ``cancel()`` -> True
-        raises :class:`BakeCancelled` (between bakes)."""
+        """Bake the next light group (or pass of one); False when all are done.
+        ``cancel()`` -> True raises :class:`BakeCancelled` (between bakes)."""
         if cancel is not None and cancel():
             raise BakeCancelled("Bake cancelled: nothing was changed")
         if self.done == len(self.steps):
             return False
         step = self.steps[self.done]
+        limit = self.settings.max_seconds       # extra passes start before the time cap
+        if not (step.index >= self.settings.first_passes and 0 < limit
+                < time.perf_counter() - self.start):
+            self._bake(step)
+        for key, _, _, names in self.batches.units(step.objects, self.sizes):
+            if max(self.last_step[n] for n in names) == self.done:
+                self.passes.finish(key)
+        self.done += 1
+        self._report_progress(step)
+        if self.done == len(self.steps) and not self._next_round():
+            self._write_maps()
+        return self.done < len(self.steps)
+
+    def _bake(self, step):
+        """One Cycles call: pass ``step.index`` of ``step.group`` for ``step.objects`` (the
+        small ones in their atlases, :mod:`.batch`); each map denoised (the raw bake's
+        local mean kept) into :attr:`pending`."""
+        units = self.batches.units(step.objects, self.sizes)
+        group = step.group.name
         with BakeState(self.scene, self.view_layer) as inner:
             isolate(inner, self.scene, step.group)
             if bakes_sky(step.group):
                 _portals.add_portals(inner, self.scene, self.windows)
             _panes.clear(inner, self.panes[step.group.name])
-            alone, atlases = self.batches.split(step.objects)
-            baked = alone + [obj for _, obj in atlases]
+            inner.set(self.scene.cycles, "seed",
+                      adaptive.pass_seed(self.settings.seed, group, step.index))
+            inner.set(self.scene.cycles, "samples", self._samples(step))
             images = {}
-            for obj, size in [(o, self.sizes[o.name]) for o in alone] + [
-                    (obj, a.size) for a, obj in atlases]:
-                image = self.state.new_image(f"{obj.name}_{step.group.name}", size)
-                images[obj.name] = image
-                for node in self.nodes[obj.name]:
+            for key, obj, size, _ in units:
+                known = self.baked.get(key, {}).get(group)
+                images[key] = image = known[1] if known else self.state.new_image(
+                    f"{key}_{group}", size)
+                for node in self.nodes[key]:
                     node.image = image
+            baked = [obj for _, obj, _, _ in units]
             inner.select_only(baked)
             check_bake_result(self.state.bake(), baked, step.group)
             for image in images.values():
                 _daylight.stamp(image, self.scene, step.group)
-        for obj in alone:
-            self.maps.setdefault(obj.name, {})[step.group.name] = (step.group, images[obj.name])
-            if self.last_step[obj.name] == self.done:
-                self._finish_maps(obj, [image for _, image in self.maps[obj.name].values()])
-        for atlas, obj in atlases:
-            if self.batches.record(atlas, step.group, images[obj.name], step.objects, self.done):
-                self._finish_atlas(atlas)
-        self.done += 1
-        self._report_progress(step)
-        return self.done < len(self.steps)
+        for key, _, _, names in units:
+            known = self.baked.get(key, {}).get(group)
+            names = list(dict.fromkeys((known[2] if known else []) + names))
+            self.baked.setdefault(key, {})[group] = (step.group, images[key], names)
+            self.passes.add(key, group, self._samples(step), images[key])
 
-    def _finish_maps(self, obj, images):
-        """Once an object's last group is baked: denoise each of its maps (keeping the raw
-        bake's local mean), average them over their 3D neighbours on the surface (across
-        islands; one neighbour search for all of them), take the luminance, scale to lux:
-        RGB = lux, A = 1."""
-        n = images[0].size[0]
-        pixels = []
-        for image in images:
-            px = np.empty(n * n * 4, dtype=np.float32)
-            image.pixels.foreach_get(px)
-            pixels.append(px.reshape(n, n, 4))
-        Y = np.stack([luminance(px[..., :3]) for px in pixels])
-        if self.settings.denoise:
-            geo = self.geometry[obj.name]
-            inside = geo.island >= 0
-            colours = _denoise.island_colours(geo.island)
-            guide = np.stack([
-                _denoise.preserve_mean(luminance(_denoise.guard(
-                    _denoise.denoise(px[..., :3], colours), px[..., :3])), Yg, inside)
-                for px, Yg in zip(pixels, Y)])
-            Y = filter3d.smooth_on_surface(guide, guide, geo.position, geo.normal, geo.covered,
-                                           geo.texel)
-            Y = [filter3d.extend_over_margin(Yg, geo.covered, inside) for Yg in Y]
-        for image, px, Yg in zip(images, pixels, Y):
-            px[..., :3] = (np.maximum(Yg, 0.0) * LUX_PER_BAKE_UNIT)[..., None]
-            px[..., 3] = 1.0
-            image.pixels.foreach_set(px.ravel())
+    def _next_round(self):
+        """Adaptive bakes: measure every map's error from its passes (:mod:`.adaptive`)
+        and plan one more pass, of the samples it lacks, for each map above the target;
+        True if any were planned."""
+        if not self.settings.adaptive:
+            return False
+        baked = [obj for _, obj, _, _ in self.batches.units(self.targets, self.sizes)]
+        more = self.passes.wanted(baked)    # measures every map, also when late
+        late = 0 < self.settings.max_seconds < time.perf_counter() - self.start
+        by_name = {o.name: o for o in self.targets}
+        steps = [] if late else [
+            _Step(g, [by_name[n] for obj in objs for n in self.baked[obj.name][name][2]],
+                  index, extra)
+            for g in self.groups for (name, index, extra), objs in
+            sorted(more.items(), key=lambda kv: kv[0][1:]) if name == g.name]
+        self.steps += steps
+        self._planned(steps)
+        return bool(steps)
 
-    def _finish_atlas(self, atlas):
-        """Once an atlas's last group is baked: finish its maps as one object's (denoise,
-        3D filter, lux), then cut each object's map out of them (:func:`.batch.cut`)."""
-        entries = self.batches.maps.pop(atlas.name)
-        self._finish_maps(self.batches.objects[atlas.name],
-                          [image for _, image, _ in entries.values()])
-        for name, maps in _batch.cut(self.state, self.scene, atlas, entries).items():
-            self.maps.setdefault(name, {}).update(maps)
+    def _write_maps(self):
+        """Every map from its passes, each atlas's cut into its objects' maps; the report
+        names the noise each map reached and those that hit the cap."""
+        for key, groups in self.passes.passes.items():
+            for group in groups:
+                self.passes.write(self.baked[key][group][1], key, group)
+        for key, entries in self.baked.items():
+            atlas = self.batches.atlas_of(key)
+            if atlas is None:
+                self.maps[key] = {g: (group, image) for g, (group, image, _) in entries.items()}
+            else:
+                for name, maps in _batch.cut(self.state, self.scene, atlas, entries).items():
+                    self.maps.setdefault(name, {}).update(maps)
+        if self.settings.adaptive:
+            self.noise = self.batches.per_object(self.passes.noise, self.baked)
+            self._note(adaptive.noise_note(self.noise, self.settings))
 
     def _report_progress(self, step):
-        done_work = sum(self.work[:self.done])
-        fraction = done_work / max(sum(self.work), 1)
+        fraction = sum(self.work[:self.done]) / max(sum(self.work), 1)
         elapsed = time.perf_counter() - self.start
         left = elapsed / fraction * (1 - fraction) if fraction > 0 else 0.0
         names = ", ".join(o.name for o in step.objects[:3]) + ("…" if len(step.objects) > 3 else "")
+        names += f" (pass {step.index + 1})" if self.settings.adaptive else ""
         message = (f"baked {names} <- {step.group.name} [{self.done}/{len(self.steps)}] "
                    f"{elapsed:.1f} s, ~{sizing.format_seconds(left)} left")
         if self.progress is not None:
@@ -323,6 +353,8 @@ class ExposureBake:
             for name, (group, image) in baked.items():
                 self.state.keep(image)
                 store_map(obj, group, image, self.uv_plans[obj.name].uv_name)
+                self.passes.record(obj.lightfade.exposure_maps[group.name],
+                                   self.batches.key(obj.name), group.name)
             prune_maps(obj, kept | set(baked))
             result[obj.name] = {item.name: item.image for item in obj.lightfade.exposure_maps}
         return result
@@ -344,61 +376,3 @@ class ExposureBake:
         merged.pixels.foreach_set(total)
         self.state.keep(merged)
         store_map(obj, group, merged, obj.lightfade.uv_map or self.uv_plans[obj.name].uv_name)
-
-
-def bake_exposure(context_or_scene, objects=None, settings=None, report=None, progress=None,
-                  cancel=None, only_changed=False, batch=True):
-    """Bake one illuminance map (lux) per (mesh, light group) pair.
-
-    Parameters
-    ----------
-    context_or_scene : bpy.types.Context or bpy.types.Scene
-        Where to bake; with a scene, its first view layer (or the current one).
-    objects : iterable of bpy.types.Object, optional
-        Objects to bake; empty or None: every mesh using a material with LightFade enabled.
-    settings : BakeSettings, optional
-        Default: :meth:`BakeSettings.from_scene`.
-    report : callable(str), optional
-        Warnings and notes (skipped objects, UV maps made); default: print.
-    progress : callable(fraction, message), optional
-        Called after each Cycles bake; default: one printed line per bake.
-    cancel : callable() -> bool, optional
-        Checked between bakes; True cancels (settings restored, no map stored).
-    only_changed : bool
-        Keep maps whose light group did not change; sum maps of groups that merged.
-    batch : bool or int
-        Bake the objects whose maps are at most :data:`.batch.BATCH_MAX_SIZE` (or this
-        number) wide together, in atlases (:mod:`.batch`); False: each on its own.
-
-    Returns
-    -------
-    dict
-        ``{"maps": {object: {group: Image}}, "skipped": [messages], "notes": [messages],
-        "groups": [(group, [emitters])], "emitters": [(name, kind)], "seconds": float}``.
-        Image pixels are lux (R = G = B = luminance of the irradiance).
-
-    Raises
-    ------
-    LightFadeBakeError
-        Nothing to bake, no emitters, linked data, overlapping UVs from a modifier... (all
-        problems, one per line); :class:`.common.BakeCancelled` when cancelled.
-    """
-    job = ExposureBake(context_or_scene, objects, settings, report, progress, only_changed,
-                       batch=batch)
-    job.plan()
-    start = time.perf_counter()
-    with job:
-        while job.step(cancel):
-            pass
-        if cancel is not None and cancel():
-            raise BakeCancelled("Bake cancelled: nothing was changed")
-        maps = job.commit()
-    return {
-        "maps": maps,
-        "skipped": job.skipped,
-        "notes": job.notes,
-        "groups": [(g.name, g.member_names) for g in job.groups],
-        "emitters": [(e.name, e.kind) for e in job.emitters],
-        "seconds": time.perf_counter() - start,
-    }
-

@@ -59,9 +59,19 @@ def _draw_presets(layout, bake):
     for key, preset in PRESETS.items():
         row = col.row()
         row.active = bake.quality == key
-        row.label(text=f"{preset.label}: {preset.samples} spp, denoised — "
-                       f"{preset.relative_time:.0%} of the old time, noise "
-                       f"{preset.noise_lit:.1%} lit / {preset.noise_shadow:.0%} shadow")
+        if preset.noise_target is not None:
+            row.label(text=f"{preset.label}: passes of {preset.pass_samples} spp, denoised, "
+                           f"to noise {preset.noise_target:.0%} (p95 per texel) and "
+                           f"±{preset.mean_target:.1%} (mean)")
+        else:
+            row.label(text=f"{preset.label}: {preset.samples} spp, denoised — "
+                           f"{preset.relative_time:.0%} of the old time, noise "
+                           f"{preset.noise_lit:.1%} lit / {preset.noise_shadow:.0%} shadow")
+    preset = PRESETS.get(bake.quality)
+    if preset is not None and preset.noise_target is not None:
+        cap = layout.column(align=True)
+        cap.prop(bake, "max_samples")
+        cap.prop(bake, "max_minutes")
 
 
 def _draw_groups(layout, scene, emitters):
@@ -121,7 +131,7 @@ def draw_bake_panel(layout, context):
         if len(targets) > LIST_LIMIT:
             box.label(text=f"… and {len(targets) - LIST_LIMIT} more")
         per_group = [[sizes[o.name] for o in targets if o.name not in g.member_names] for g in groups]
-        est = sizing.estimate(scene, per_group, settings.samples, settings.denoise)
+        est = sizing.estimate_for(scene, per_group, settings)
         row = box.row()
         row.label(text=est.text(), icon="TIME")
         row.operator("lightfade.bake_calibrate", text="", icon="PREVIEW_RANGE")

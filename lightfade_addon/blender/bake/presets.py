@@ -7,6 +7,8 @@ the relative standard deviation of the difference of two bakes with different se
 undenoised 64-sample bake LightFade used before.
 """
 
+from __future__ import annotations
+
 from dataclasses import dataclass
 
 
@@ -23,6 +25,13 @@ class Preset:
     #: Noise in the sunlit part and in the bounce-lit shadow (fractions).
     noise_lit: float
     noise_shadow: float
+    #: Adaptive (:mod:`.adaptive`): the 95th percentile of the relative error at lit
+    #: texels, and of the object's mean lux, that each map is baked to (None: a fixed
+    #: bake of ``samples``); ``samples`` is then the first passes' sum.
+    noise_target: float | None = None
+    mean_target: float | None = None
+    #: Samples per pass of an adaptive bake.
+    pass_samples: int = 4
 
 
 PRESETS = {
@@ -30,6 +39,8 @@ PRESETS = {
         "Preview", "4 samples per texel, denoised: a quick look at where the light falls",
         samples=4, denoise=True, relative_time=0.15, noise_lit=0.0014, noise_shadow=0.051),
     "FINAL": Preset(
-        "Final", "8 samples per texel, denoised: the exposure the aging uses",
-        samples=8, denoise=True, relative_time=0.18, noise_lit=0.0011, noise_shadow=0.044),
+        "Final", "Passes of 4 samples per texel, denoised, until each map's noise is at the "
+        "target (or the cap): the exposure the aging uses",
+        samples=8, denoise=True, relative_time=0.18, noise_lit=0.0011, noise_shadow=0.044,
+        noise_target=0.15, mean_target=0.01),
 }

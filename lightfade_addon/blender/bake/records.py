@@ -56,6 +56,19 @@ class LIGHTFADE_PG_exposure_map(PropertyGroup):
         name="Emitters",
         description="The emitters baked together into this map (same spectrum, UV filter and schedule)",
     )
+    noise: FloatProperty(
+        name="Noise",
+        description="Relative error (95th percentile over lit texels) the map reached, from "
+        "its independent passes; 0: not measured (one pass)",
+        default=0.0,
+        min=0.0,
+    )
+    samples: IntProperty(
+        name="Samples",
+        description="Samples per texel the map was baked with (all passes)",
+        default=0,
+        min=0,
+    )
     image: PointerProperty(
         name="Exposure Image",
         type=bpy.types.Image,
@@ -121,6 +134,22 @@ class LIGHTFADE_PG_bake_settings(PropertyGroup):
         "noise indoors, the same mean; glass that refracts is shown as a clear pane meanwhile, "
         "so that Cycles' shadow rays pass it. Off where the scene has portals of its own",
         default=True,
+    )
+    max_samples: IntProperty(
+        name="Max Samples",
+        description="Adaptive bake (Final): the most samples per texel any map gets; a map "
+        "still noisier than the target there is named in the bake's report",
+        default=128,
+        min=8,
+        soft_max=1024,
+    )
+    max_minutes: FloatProperty(
+        name="Max Minutes",
+        description="Adaptive bake (Final): no more passes start after this long (the first "
+        "passes of every map always run); 0: no limit",
+        default=0.0,
+        min=0.0,
+        soft_max=240.0,
     )
     texels_per_metre: FloatProperty(
         name="Texels per Metre",

@@ -90,17 +90,30 @@ def _size(obj, depsgraph, settings, uv_name):
 
 @dataclass
 class Estimate:
-    """What a bake will cost: texel-samples, Cycles calls, and seconds when calibrated."""
+    """What a bake will cost: texel-samples, Cycles calls, and seconds when calibrated.
+
+    An adaptive bake (:mod:`.adaptive`) costs between its first passes everywhere
+    (``texel_samples``, ``seconds``) and the cap everywhere (``texel_samples_max``,
+    ``seconds_max``; None for a fixed bake).
+    """
 
     texel_samples: float
     texels: float
     calls: int
     seconds: float | None
+    texel_samples_max: float | None = None
+    seconds_max: float | None = None
 
     def text(self):
         work = f"{self.texel_samples / 1e6:,.1f} M texel·samples"
+        if self.texel_samples_max is not None:
+            work = (f"{self.texel_samples / 1e6:,.1f}–{self.texel_samples_max / 1e6:,.1f} M "
+                    "texel·samples")
         if self.seconds is None:
             return work + " (press Calibrate for a time)"
+        if self.seconds_max is not None:
+            return work + (f", ~{format_seconds(self.seconds)} where clean, up to "
+                           f"{format_seconds(self.seconds_max)}")
         return work + f", ~{format_seconds(self.seconds)}"
 
 
@@ -112,19 +125,38 @@ def format_seconds(s):
 CALIBRATION = {}
 
 
-def estimate(scene, sizes_by_group, samples, denoise):
-    """Estimate the bake of ``sizes_by_group`` (a list, per group, of map widths)."""
+def estimate(scene, sizes_by_group, samples, denoise, passes=1):
+    """Estimate the bake of ``sizes_by_group`` (a list, per group, of map widths) at
+    ``samples`` per texel in ``passes`` Cycles calls per group (each map denoised once
+    per pass)."""
     texels = float(sum(n * n for sizes in sizes_by_group for n in sizes))
     work = texels * samples
-    calls = sum(1 for sizes in sizes_by_group if sizes)
+    calls = sum(1 for sizes in sizes_by_group if sizes) * passes
     seconds = None
     rate = CALIBRATION.get(scene.session_uid)
     if rate is not None:
         per_texel_sample, per_call = rate
         seconds = work / per_texel_sample + calls * per_call
         if denoise:
-            seconds += texels / 1e6 * DENOISE_SECONDS_PER_MTEXEL
+            seconds += texels / 1e6 * DENOISE_SECONDS_PER_MTEXEL * passes
     return Estimate(work, texels, calls, seconds)
+
+
+def estimate_for(scene, sizes_by_group, settings):
+    """:func:`estimate` of a bake with :class:`.settings.BakeSettings` ``settings``: an
+    adaptive one from its first passes everywhere to its cap everywhere."""
+    per_pass = settings.samples_per_pass()
+    low = estimate(scene, sizes_by_group, per_pass * settings.first_passes, settings.denoise,
+                   settings.first_passes)
+    if not settings.adaptive:
+        return low
+    high = estimate(scene, sizes_by_group, settings.cap_samples, settings.denoise,
+                    settings.most_passes)
+    low.texel_samples_max = high.texel_samples
+    low.seconds_max = high.seconds
+    if high.seconds is not None and settings.max_seconds > 0:
+        low.seconds_max = min(high.seconds, max(settings.max_seconds, low.seconds))
+    return low
 
 
 #: The untimed bake :func:`calibrate` starts with, and the two it times: (size, samples).

@@ -1,0 +1,191 @@
+"""Adaptive exposure bakes: passes until each map reaches its noise target.
+
+A fixed sample count is too few where light arrives by rare paths (the year's sun through
+a small window onto a sofa, a bulb seen through frosted glass) and wasted everywhere
+else.  So an adaptive bake (the Final preset) bakes each light group in **passes** of a
+few samples, each pass with its own seed (:func:`pass_seed`), finishes every pass the
+same way the bake finishes a map (denoised, the raw mean kept, 3D-filtered), and takes
+the mean of the finished passes as the map.  Independent passes give the bake its own
+error (:func:`noise`): the spread of the finished passes says how far their mean can be
+from a converged bake.  After the first passes (:data:`MIN_PASSES`, of a few samples
+each) each (object, group) whose error is above the target gets one more pass per
+round, of as many samples as it lacks (:func:`samples_wanted`), until it reaches the
+target or the cap on samples (or on time) that the artist sets: a few rounds, so a few
+denoisings, however many samples.  Measured on a furnished room's sofa under a window's
+annual daylight (docs/bake.md): 20 samples where 8 left it twice the error target.
+
+The error of a mean of ``K`` independent passes ``F_k`` of equal variance ``σ²`` is
+distributed as each Helmert contrast ``h_j / √K``::
+
+    h_j = (Σ_{k<j} F_k − j F_j) / √(j (j + 1)),    j = 1 … K − 1      (var σ²)
+
+so their pooled values, relative to the mean map at lit texels, give the 95th percentile
+of the map's relative error directly, with no assumption on the shape of the noise
+across texels (passes of different samples: the mean weighted by them, each pass against
+the weighted mean of those before it, :func:`error_contrasts`).  The error of the
+object's mean lux is the root mean square of the same contrasts of the passes' means.
+
+Seeds depend only on the base seed, the group's name and the pass: a bake split by
+object chunks (a farm) gives every object the passes, and so the maps, of the whole
+bake; Cycles bakes each selected object on its own, so its noise does not depend on
+which other objects share the call.  Pass 0 has the base seed: a one-pass bake is the
+fixed bake of before.
+
+No ``bpy`` here: arrays in, numbers out.
+"""
+
+from __future__ import annotations
+
+import math
+import zlib
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Passes every (object, group) gets before its error is measured (two: one contrast).
+MIN_PASSES = 2
+#: A round at most multiplies a map's samples by this (the first estimates are rough).
+MAX_GROWTH = 4
+#: Lit texels: at least this share of the map's 99th percentile (as the benchmarks).
+LIT_SHARE = 0.05
+#: Fewer lit texels than this: no per-texel percentile (the object's mean still counts).
+MIN_LIT = 64
+#: Cycles' largest seed.
+_SEED_MAX = 2 ** 31 - 1
+
+
+def pass_seed(base, group, index):
+    """Cycles seed of pass ``index`` of light group ``group`` (its name).
+
+    Pass 0: ``base`` (a one-pass bake is the fixed bake); later passes: ``base`` plus a
+    CRC-32 of the group's name and the pass index, the same in every run and on every
+    machine (idempotent: a re-bake, or a farm's chunk, gives the same maps).
+    """
+    if index == 0:
+        return int(base)
+    return (int(base) + zlib.crc32(f"{group}\0{index}".encode())) % _SEED_MAX
+
+
+@dataclass
+class Noise:
+    """The error one (object, group) map reached, from its passes.
+
+    Attributes
+    ----------
+    passes, samples : int
+        Passes baked and samples per texel they add up to.
+    p95 : float or None
+        95th percentile of the relative error at lit texels (a fraction); None with one
+        pass (not measured).
+    mean : float or None
+        Relative standard error of the object's mean lux; None with one pass.
+    capped : bool
+        Stopped by the cap (samples or time) above the target.
+    """
+
+    passes: int
+    samples: int
+    p95: float | None = None
+    mean: float | None = None
+    capped: bool = False
+
+    def text(self):
+        if self.p95 is None:
+            return f"{self.samples} spp (one pass: noise not measured)"
+        cap = ", hit the cap" if self.capped else ""
+        return (f"noise {self.p95:.1%} p95, mean ±{self.mean:.2%}, "
+                f"{self.samples} spp in {self.passes} passes{cap}")
+
+
+def error_contrasts(passes, samples=None):
+    """Helmert contrasts of ``K`` passes, each distributed as the error of the passes'
+    mean: ``(K − 1, …)`` (module docstring).
+
+    ``samples``: the samples of each pass (default equal); the mean is then weighted by
+    them and pass ``j`` is compared with the weighted mean of the passes before it,
+    ``(M_j − F_j) √((1/N) / (1/S_j + 1/n_j))`` (``S_j`` their samples, ``N`` all), the
+    noise of a pass taken as ∝ 1/√samples.
+    """
+    F = np.asarray(passes, dtype=np.float64)
+    n = np.ones(len(F)) if samples is None else np.asarray(samples, dtype=np.float64)
+    total = n.sum()
+    out = np.empty((len(F) - 1,) + F.shape[1:])
+    acc, weight = n[0] * F[0], n[0]
+    for j in range(1, len(F)):
+        out[j - 1] = (acc / weight - F[j]) * math.sqrt((1.0 / total) / (1.0 / weight + 1.0 / n[j]))
+        acc += n[j] * F[j]
+        weight += n[j]
+    return out
+
+
+def mean_map(passes, samples):
+    """The map: the passes' mean, weighted by their samples."""
+    n = np.asarray(samples, dtype=np.float64)
+    return np.tensordot(n / n.sum(), np.asarray(passes, dtype=np.float64), axes=1)
+
+
+def noise(passes, covered, samples):
+    """:class:`Noise` of the mean of ``passes`` (finished maps, ``(K, H, W)``; ``samples``
+    per pass, a list, or one number for all) over the ``covered`` texels.  Dark maps
+    (nothing lit) have no error."""
+    F = np.asarray(passes, dtype=np.float64)[:, np.asarray(covered, bool)]
+    k = len(F)
+    n = np.broadcast_to(np.asarray(samples, dtype=np.float64), (k,))
+    result = Noise(k, int(n.sum()))
+    if k < 2:
+        return result
+    mean = mean_map(F, n)
+    top = np.percentile(mean, 99) if mean.size else 0.0
+    if top <= 0:
+        result.p95, result.mean = 0.0, 0.0
+        return result
+    lit = mean >= LIT_SHARE * top
+    means = F.mean(axis=1)
+    spread = error_contrasts(means, n)
+    result.mean = float(np.sqrt(np.mean(spread ** 2)) / max(float(mean_map(means, n)), 1e-30))
+    if np.count_nonzero(lit) < MIN_LIT:
+        result.p95 = 0.0
+        return result
+    rel = np.abs(error_contrasts(F[:, lit], n)) / mean[lit]
+    result.p95 = float(np.percentile(rel, 95))
+    return result
+
+
+def samples_wanted(found, target, mean_target, max_samples, step=4):
+    """Samples per texel the (object, group) of :class:`Noise` ``found`` should have in
+    all: error falls as ``1/√samples``, so ``N · max(p95 / target, mean / mean_target)²``,
+    a multiple of ``step``, at most :data:`MAX_GROWTH` × ``N`` in one round and
+    ``max_samples`` in all; ``found.samples`` when it is at the target (or the cap).
+    """
+    have = found.samples
+    if found.p95 is None:
+        return have
+    ratio = max(found.p95 / target, found.mean / mean_target if mean_target else 0.0)
+    if ratio <= 1.0:
+        return have
+    want = math.ceil(have * ratio ** 2 / step) * step
+    return int(max(have, min(want, MAX_GROWTH * have, max_samples)))
+
+
+def noise_note(noise, settings):
+    """The bake's report: one line per map (``noise``: ``{(object, group): Noise}``) with
+    the noise it reached and the samples it took; then the maps that hit the cap above
+    the target, named.  '' without maps."""
+    if not noise:
+        return ""
+    s = settings
+    cap = f"{s.cap_samples} spp" + (
+        f" or {_seconds(s.max_seconds)}" if s.max_seconds else "")
+    lines = [f"Noise reached (target {s.noise_target:.0%} p95 per texel, object mean "
+             f"±{s.mean_target:.1%}; cap {cap}):"]
+    for (obj, group), found in noise.items():
+        lines.append(f"  \"{obj}\" <- {group}: {found.text()}")
+    capped = [f"\"{obj}\" <- {group}" for (obj, group), f in noise.items() if f.capped]
+    if capped:
+        lines.append(f"Hit the cap ({cap}) above the target: {', '.join(capped)}; raise "
+                     "Max Samples or Max Minutes to bake them further")
+    return "\n".join(lines)
+
+
+def _seconds(s):
+    return f"{s:.0f} s" if s < 90 else f"{s / 60:.1f} min"

@@ -1,0 +1,110 @@
+"""The passes of each (object, light group) map of a bake, finished as the map would be.
+
+After each Cycles call a pass is read back and denoised (:mod:`.denoise`: OIDN guided by
+the islands, capped by the raw neighbours, the raw bake's local mean kept); after an
+object's last call of a round its new passes are averaged over their 3D neighbours on
+the surface together (:mod:`.filter3d`: one neighbour search; the passes of one group
+with the range weight of their mean) and extended over the margin.  A map is the mean
+of its finished passes weighted by their samples; an adaptive bake (:mod:`.adaptive`)
+measures each map's error from them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import adaptive
+from . import denoise as _denoise
+from . import filter3d
+from .common import LUX_PER_BAKE_UNIT, luminance
+
+
+class Passes:
+    """Finished passes per object and group: ``passes[object][group] = [(samples, map)]``
+    (maps in bake units, luminance), and the :class:`.adaptive.Noise` measured."""
+
+    def __init__(self, settings, geometry):
+        self.settings, self.geometry = settings, geometry
+        self.colours, self.pending, self.passes, self.noise = {}, {}, {}, {}
+
+    def add(self, obj_name, group, samples, image):
+        """A pass just baked into ``image``: denoised (when the settings say so), pending
+        its object's 3D filter."""
+        n = image.size[0]
+        px = np.empty(n * n * 4, dtype=np.float32)
+        image.pixels.foreach_get(px)
+        rgb = px.reshape(n, n, 4)[..., :3]
+        raw = luminance(rgb)
+        if self.settings.denoise:
+            geo = self.geometry[obj_name]
+            if obj_name not in self.colours:
+                self.colours[obj_name] = _denoise.island_colours(geo.island)
+            denoised = _denoise.denoise(rgb, self.colours[obj_name])
+            raw = _denoise.preserve_mean(luminance(_denoise.guard(denoised, rgb)), raw,
+                                         geo.island >= 0)
+        self.pending.setdefault(obj_name, []).append((group, samples, raw.astype(np.float32)))
+
+    def finish(self, obj_name):
+        """Average the object's pending passes over their 3D neighbours on the surface
+        (across islands; one neighbour search for all, every group and pass; a group's
+        passes with the range weight of their mean, computed once), then over the bake
+        margin: they join its finished passes."""
+        pending = self.pending.pop(obj_name, [])
+        if not pending:
+            return
+        Y = [y for _, _, y in pending]
+        if self.settings.denoise:
+            geo = self.geometry[obj_name]
+            stack = np.stack(Y)
+            groups = list(dict.fromkeys(group for group, _, _ in pending))
+            guide_of = [groups.index(group) for group, _, _ in pending]
+            guide = np.stack([stack[[j for j, r in enumerate(guide_of) if r == i]].mean(axis=0)
+                              for i in range(len(groups))])
+            Y = filter3d.smooth_on_surface(stack, guide, geo.position, geo.normal, geo.covered,
+                                           geo.texel, guide_of=guide_of)
+            Y = [filter3d.extend_over_margin(y, geo.covered, geo.island >= 0) for y in Y]
+        for (group, samples, _), y in zip(pending, Y):
+            self.passes.setdefault(obj_name, {}).setdefault(group, []).append((samples, y))
+
+    def measure(self, obj_name, group):
+        """:class:`.adaptive.Noise` of the map so far (kept for the report); ``capped``
+        while it is above the target."""
+        s = self.settings
+        passes = self.passes[obj_name][group]
+        found = adaptive.noise([y for _, y in passes], self.geometry[obj_name].covered,
+                               [n for n, _ in passes])
+        if found.p95 is not None:
+            found.capped = found.p95 > s.noise_target or (
+                s.mean_target > 0 and found.mean > s.mean_target)
+        self.noise[(obj_name, group)] = found
+        return found
+
+    def wanted(self, objects):
+        """Measure every map of ``objects``; those above the target, by the pass they
+        would add: ``{(group, pass index, samples): [objects]}``."""
+        s, more = self.settings, {}
+        for obj in objects:
+            for group in self.passes.get(obj.name, {}):
+                found = self.measure(obj.name, group)
+                want = adaptive.samples_wanted(found, s.noise_target, s.mean_target,
+                                               s.cap_samples, s.samples_per_pass())
+                if want > found.samples:
+                    more.setdefault((group, found.passes, want - found.samples), []).append(obj)
+        return more
+
+    def record(self, item, obj_name, group):
+        """The noise and samples of a map on its record (:mod:`.records`)."""
+        found = self.noise.get((obj_name, group))
+        item.samples = sum(n for n, _ in self.passes.get(obj_name, {}).get(group, ()))
+        item.noise = found.p95 if found is not None and found.p95 is not None else 0.0
+
+    def write(self, image, obj_name, group):
+        """The map into ``image``: the weighted mean of its passes, in lux (RGB = lux,
+        A = 1)."""
+        passes = self.passes[obj_name][group]
+        n = image.size[0]
+        px = np.empty((n, n, 4), dtype=np.float32)
+        mean = adaptive.mean_map([y for _, y in passes], [k for k, _ in passes])
+        px[..., :3] = (np.maximum(mean, 0.0) * LUX_PER_BAKE_UNIT)[..., None]
+        px[..., 3] = 1.0
+        image.pixels.foreach_set(px.ravel())

@@ -1,0 +1,238 @@
+"""Adaptive exposure bakes (issue 36): passes until each map reaches its noise target.
+
+The statistics (:mod:`lightfade_addon.blender.bake.adaptive`) on synthetic passes whose
+true error is known; the bake on a scene with a clean map (a floor under a sun) and a
+noisy one (a wall lit by a bulb through frosted glass): the noisy map gets more passes,
+the clean one none, the cap is reported, the maps are the same whatever else is baked
+with them (a farm's chunks), and Esc in the middle of the extra passes stores nothing.
+"""
+
+import math
+
+import bpy
+import numpy as np
+import pytest
+
+from lightfade_addon.blender.bake import BakeCancelled, BakeSettings, ExposureBake, bake_exposure
+from lightfade_addon.blender.bake import adaptive
+from lightfade_addon.blender.bake.adaptive import Noise
+
+from test_bake_shades import _diffuse, _glass, _material
+
+
+# ---------------------------------------------------------------- statistics
+@pytest.mark.parametrize("k", [2, 3, 8])
+def test_the_contrasts_are_distributed_as_the_error_of_the_mean(k):
+    """p95 of the pooled contrasts = p95 of |mean of K passes - truth|, with per-texel
+    noise of very different sizes (a shadow and a sun patch)."""
+    rng = np.random.default_rng(7)
+    truth = rng.uniform(1.0, 10.0, 200_000)
+    sigma = truth * rng.choice([0.02, 0.3], truth.size)
+    passes = truth + sigma * rng.standard_normal((k, truth.size))
+    err = np.abs(passes.mean(axis=0) - truth)
+    est = np.abs(adaptive.error_contrasts(passes))
+    assert np.percentile(est, 95) == pytest.approx(np.percentile(err, 95), rel=0.03)
+
+
+def test_noise_is_relative_at_lit_texels_and_the_mean_error_is_the_passes_spread():
+    rng = np.random.default_rng(3)
+    covered = np.ones((64, 64), bool)
+    covered[:, :8] = False                          # the margin: never counted
+    truth = np.full((64, 64), 4.0)
+    truth[:, :8] = 1e6
+    passes = truth * (1.0 + 0.2 * rng.standard_normal((4, 64, 64)))
+    found = adaptive.noise(passes, covered, 4)
+    # the mean of 4 passes: relative error 0.2 / 2, p95 of |N(0, 0.1)|: 1.96 × 0.1
+    assert (found.passes, found.samples) == (4, 16)
+    assert found.p95 == pytest.approx(0.196, rel=0.08)
+    means = passes[:, covered].mean(axis=1)
+    assert found.mean == pytest.approx(means.std(ddof=1) / 2 / means.mean(), rel=1e-6)
+    assert adaptive.noise(np.zeros((2, 8, 8)), np.ones((8, 8), bool), 4).p95 == 0.0
+    assert adaptive.noise(passes[:1], covered, 8).p95 is None   # one pass: not measured
+
+
+def test_passes_of_different_samples_weigh_by_them():
+    """Later passes carry the samples a map lacks: the weighted contrasts are still
+    distributed as the error of the weighted mean."""
+    rng = np.random.default_rng(11)
+    truth = rng.uniform(1.0, 10.0, 200_000)
+    samples = np.array([4, 4, 24, 96])
+    passes = truth + truth * 0.8 / np.sqrt(samples)[:, None] * rng.standard_normal(
+        (4, truth.size))
+    err = np.abs(adaptive.mean_map(passes, samples) - truth)
+    est = np.abs(adaptive.error_contrasts(passes, samples))
+    assert np.percentile(est, 95) == pytest.approx(np.percentile(err, 95), rel=0.03)
+    # unweighted, the 96-sample pass's precision would be lost
+    assert np.percentile(np.abs(passes.mean(axis=0) - truth), 95) > 1.5 * np.percentile(err, 95)
+
+
+def test_samples_wanted_grow_as_the_square_of_the_error_within_the_round_and_the_cap():
+    assert adaptive.samples_wanted(Noise(2, 8, p95=0.15, mean=0.001), 0.15, 0.01, 128) == 8
+    assert adaptive.samples_wanted(Noise(2, 8, p95=0.21, mean=0.0), 0.15, 0.01, 128) == 16
+    assert adaptive.samples_wanted(Noise(2, 8, p95=0.1, mean=0.02), 0.15, 0.01, 128) == 32
+    assert adaptive.samples_wanted(Noise(3, 32, p95=0.9, mean=0.0), 0.15, 0.01, 128) == 128
+    assert adaptive.samples_wanted(Noise(3, 32, p95=0.9, mean=0.0), 0.15, 0.01, 64) == 64
+    assert adaptive.samples_wanted(Noise(1, 8), 0.15, 0.01, 128) == 8
+
+
+def test_pass_seeds_are_fixed_per_group_and_pass_and_fit_cycles(blender):
+    assert adaptive.pass_seed(5, "Sun", 0) == 5
+    seeds = {adaptive.pass_seed(5, g, k) for g in ("Sun", "Bulb", "Daylight") for k in (1, 2, 3)}
+    assert len(seeds) == 9 and 5 not in seeds
+    assert adaptive.pass_seed(5, "Bulb", 2) == adaptive.pass_seed(5, "Bulb", 2)
+    cycles = bpy.context.scene.cycles
+    for seed in seeds:
+        cycles.seed = seed
+        assert cycles.seed == seed
+
+
+# ---------------------------------------------------------------- the bake
+N = 32
+ADAPTIVE = BakeSettings(resolution=N, samples=4, pass_samples=2, margin=2, noise_target=0.15,
+                        mean_target=0.03, max_samples=16)
+
+
+@pytest.fixture
+def two_lights(blender, lf):
+    """A floor under a sun (clean at once) and a wall that a bulb lights through an open
+    frosted-glass cylinder (rare bright paths)."""
+    bpy.ops.mesh.primitive_plane_add(size=3.0)
+    floor = bpy.context.active_object
+    floor.name = "Floor"
+    floor.data.materials.append(_material("FloorMat", _diffuse))
+    bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0.0, 0.8, 1.2),
+                                     rotation=(math.radians(90), 0.0, 0.0))
+    wall = bpy.context.active_object
+    wall.name = "Wall"
+    wall.data.materials.append(_material("WallMat", _diffuse))
+    bpy.ops.mesh.primitive_cylinder_add(vertices=24, radius=0.2, depth=0.3,
+                                        location=(0.0, 0.0, 1.2), end_fill_type="NOTHING")
+    bpy.context.active_object.data.materials.append(_material("Frosted", _glass))
+    data = bpy.data.lights.new("Bulb", "POINT")
+    data.energy, data.shadow_soft_size = 60.0, 0.05
+    bulb = bpy.data.objects.new("Bulb", data)
+    bpy.context.scene.collection.objects.link(bulb)
+    bulb.location = (0.0, 0.0, 1.2)
+    lf.add_sun(strength=3.0, theta_deg=20.0)
+    bpy.context.scene.world = None
+    bpy.context.view_layer.update()
+    return floor, wall
+
+
+def _quiet(notes=None):
+    return {"report": (notes.append if notes is not None else (lambda m: None)),
+            "progress": lambda f, m: None}
+
+
+def test_the_noisy_map_gets_more_passes_the_clean_one_none_and_the_cap_is_named(two_lights):
+    floor, wall = two_lights
+    notes = []
+    result = bake_exposure(bpy.context.scene, [floor, wall], ADAPTIVE, **_quiet(notes))
+    noise = result["noise"]
+    sun, glass = noise[("Floor", "Sun")], noise[("Wall", "Bulb")]
+    assert (sun.passes, sun.samples, sun.capped) == (2, 4, False)
+    assert sun.p95 < 0.15
+    assert glass.passes == 3 and glass.samples == 16 and glass.capped   # 2 + 2, then 12
+    assert glass.p95 > 0.15 or glass.mean > 0.03
+    note = notes[-1]
+    assert '"Wall" <- Bulb' in note.splitlines()[-1] and "Hit the cap (16 spp)" in note
+    assert '"Floor" <- Sun: noise' in note and "4 spp in 2 passes" in note
+    records = {(o.name, m.name): m for o in (floor, wall) for m in o.lightfade.exposure_maps}
+    assert records["Wall", "Bulb"].samples == 16 and records["Floor", "Sun"].samples == 4
+    assert records["Wall", "Bulb"].noise == pytest.approx(glass.p95)
+
+
+def test_the_map_is_the_mean_of_the_passes_and_a_lower_cap_stops_sooner(two_lights, lf):
+    floor, wall = two_lights
+    job = ExposureBake(bpy.context.scene, [wall], ADAPTIVE, **_quiet()).plan()
+    with job:
+        while job.step():
+            pass
+        passes = job.passes.passes["Wall"]["Bulb"]
+        maps = job.commit()
+    assert [n for n, _ in passes] == [2, 2, 12]
+    from lightfade_addon.blender.bake.common import LUX_PER_BAKE_UNIT
+
+    mean = (2 * passes[0][1] + 2 * passes[1][1] + 12 * passes[2][1]) / 16
+    np.testing.assert_allclose(lf.pixels(maps["Wall"]["Bulb"]), mean * LUX_PER_BAKE_UNIT,
+                               rtol=1e-5)
+    low = BakeSettings(**{**ADAPTIVE.__dict__, "max_samples": 8})
+    result = bake_exposure(bpy.context.scene, [wall], low, **_quiet())
+    assert (result["noise"][("Wall", "Bulb")].passes,
+            result["noise"][("Wall", "Bulb")].samples) == (3, 8)
+
+
+def test_each_map_is_the_same_whatever_is_baked_with_it(two_lights, lf):
+    """Seeds fixed per group and pass, and Cycles bakes each object on its own: a farm
+    that bakes the objects in chunks gets the maps of the whole bake, re-bakes too."""
+    floor, wall = two_lights
+    both = bake_exposure(bpy.context.scene, [floor, wall], ADAPTIVE, **_quiet())
+    first = {g: lf.pixels(i).copy() for g, i in both["maps"]["Wall"].items()}
+    alone = bake_exposure(bpy.context.scene, [wall], ADAPTIVE, **_quiet())
+    for group, image in alone["maps"]["Wall"].items():
+        np.testing.assert_array_equal(lf.pixels(image), first[group])
+    assert alone["noise"][("Wall", "Bulb")] == both["noise"][("Wall", "Bulb")]
+
+
+def test_cancel_during_the_extra_passes_stores_nothing(two_lights, lf):
+    floor, wall = two_lights
+    job = ExposureBake(bpy.context.scene, [floor, wall], ADAPTIVE, **_quiet()).plan()
+    with pytest.raises(BakeCancelled):
+        with job:
+            while job.done < 4:                     # two groups × two first passes
+                job.step()
+            assert len(job.steps) > 4               # more passes planned
+            job.step(cancel=lambda: True)
+    assert len(wall.lightfade.exposure_maps) == 0 and len(floor.lightfade.exposure_maps) == 0
+    assert not [i for i in bpy.data.images if i.name.startswith("LF_")]
+
+
+def test_the_estimate_is_a_range_from_the_first_passes_to_the_cap(two_lights):
+    from lightfade_addon.blender.bake import sizing
+
+    floor, wall = two_lights
+    job = ExposureBake(bpy.context.scene, [floor, wall], ADAPTIVE, **_quiet()).plan()
+    est = job.estimate()
+    texels = 2 * 2 * N * N                           # two objects, two groups
+    assert (est.texel_samples, est.texel_samples_max, est.calls) == (
+        texels * 4, texels * 16, 4)
+    sizing.CALIBRATION[bpy.context.scene.session_uid] = (1e6, 0.5)
+    try:
+        est = job.estimate()
+        assert est.seconds == pytest.approx(texels * 4 / 1e6 + 4 * 0.5 + texels / 1e6 * 3.5 * 2)
+        # 4 samples in two passes, then one pass a round of at most 4x the samples so far
+        assert est.seconds_max == pytest.approx(texels * 16 / 1e6 + 6 * 0.5
+                                                + texels / 1e6 * 3.5 * 3)
+        assert "up to" in est.text()
+    finally:
+        del sizing.CALIBRATION[bpy.context.scene.session_uid]
+
+
+def test_the_scene_settings_carry_the_presets_target_and_the_cap(two_lights):
+    from lightfade_addon import api
+    from lightfade_addon.blender.bake.presets import PRESETS
+
+    scene = bpy.context.scene
+    scene.lightfade_bake.quality = "FINAL"
+    scene.lightfade.bake_resolution = 32
+    settings = BakeSettings.from_scene(scene)
+    final = PRESETS["FINAL"]
+    assert (settings.noise_target, settings.mean_target, settings.pass_samples) == (
+        final.noise_target, final.mean_target, final.pass_samples)
+    assert (settings.first_passes, settings.cap_samples, settings.most_passes) == (2, 128, 4)
+    floor, wall = two_lights
+    result = api.bake(scene, [wall], max_samples=8, density=16)
+    assert scene.lightfade_bake.max_samples == 8
+    assert result["noise"][("Wall", "Bulb")].samples == 8
+    scene.lightfade_bake.quality = "CUSTOM"
+    assert not BakeSettings.from_scene(scene).adaptive
+
+
+def test_max_minutes_stops_the_extra_passes_and_names_the_map(two_lights):
+    floor, wall = two_lights
+    notes = []
+    soon = BakeSettings(**{**ADAPTIVE.__dict__, "max_seconds": 1e-6})
+    result = bake_exposure(bpy.context.scene, [wall], soon, **_quiet(notes))
+    found = result["noise"][("Wall", "Bulb")]
+    assert (found.passes, found.capped) == (2, True)
+    assert "or 0 s" in notes[-1] and '"Wall" <- Bulb' in notes[-1].splitlines()[-1]
