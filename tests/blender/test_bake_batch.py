@@ -107,3 +107,25 @@ def test_the_widest_map_batched_is_a_choice(cubes):
     assert ExposureBake(scene, cubes, SETTINGS, report=print, batch=64).plan().batches.atlases
     assert not ExposureBake(scene, cubes, SETTINGS, report=print, batch=32).plan().batches.atlases
     assert not ExposureBake(scene, cubes, SETTINGS, report=print, batch=False).plan().batches.atlases
+
+
+def test_an_adaptive_bake_measures_and_reports_each_batched_object(cubes):
+    """Passes and their noise are the atlas's; the report, the records and the maps are
+    each object's (the noise of the atlas given to each object baked in it)."""
+    settings = BakeSettings(**{**SETTINGS.__dict__, "samples": 4, "pass_samples": 2,
+                               "noise_target": 0.15, "mean_target": 0.03, "max_samples": 8})
+    notes = []
+    result = bake_exposure(bpy.context.scene, cubes, settings, report=notes.append,
+                           progress=lambda f, m: None)
+    noise = result["noise"]
+    assert sorted(name for name, _ in noise) == sorted(o.name for o in cubes)
+    assert not any(name.startswith(TEMP_PREFIX) for name, _ in noise)
+    assert all(found.samples >= 4 for found in noise.values())
+    assert f'"{cubes[3].name}" <- Sun' in notes[-1]
+    for obj in cubes:
+        assert obj.lightfade.exposure_maps["Sun"].samples == noise[obj.name, "Sun"].samples
+    together = {o.name: polygon_centre_lux(o, result["maps"][o.name]["Sun"]) for o in cubes}
+    alone = _bake(cubes, False, seed=1)
+    for obj in cubes:
+        lit = alone[obj.name] > 0.2 * alone[obj.name].max()
+        assert abs(np.mean(together[obj.name][lit] / alone[obj.name][lit]) - 1.0) < 0.15
