@@ -18,6 +18,7 @@ Modules, one job each:
 ``panes``    refracting window glass shown as a clear pane while the sky is baked
 ``exposure`` the bake loop (one Cycles call per group), :func:`bake_exposure`
 ``calibration`` tiny bakes that give the estimate its rate
+``instances`` collection instances baked where each stands, into one atlas per source
 ``maps``     storing maps; reading them back for aging; signature; removal
 ``panel``    the Exposure Bake panel's contents
 """
@@ -32,6 +33,7 @@ from .common import (
 )
 from .emitters import Emitter, LightGroup, find_emitters, find_groups, group_emitters
 from .calibration import calibrate
+from . import instances
 from .exposure import ExposureBake, bake_exposure
 from .settings import BakeSettings
 from .maps import (

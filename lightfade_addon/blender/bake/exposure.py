@@ -24,6 +24,7 @@ import numpy as np
 from . import daylight as _daylight
 from . import denoise as _denoise
 from . import filter3d
+from . import instances as _instances
 from . import panes as _panes
 from . import portals as _portals
 from . import sizing
@@ -81,14 +82,24 @@ class ExposureBake:
         """Every check that can refuse, before any Cycles work; all problems at once."""
         scene, layer = self.scene, self.view_layer
         layer.update()  # objects linked by scripts join view_layer.objects on update
-        objects = self.objects or find_targets(scene)
-        if not objects:
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        plans = _instances.find_placements(depsgraph, layer, self.objects)
+        instancers = {p.instancer for plan in plans.values() for p in plan.placements}
+        objects = [o for o in (self.objects or find_targets(scene))
+                   if o not in plans and o not in instancers]
+        if not objects and not plans:
             raise LightFadeBakeError(
                 "Nothing to bake: select mesh objects, or enable LightFade on their materials "
                 "(Material Properties > LightFade)")
-        targets, warnings, problems = validate_targets(objects, self.settings.unwrap)
+        targets, warnings, problems = validate_targets(objects + list(plans),
+                                                       self.settings.unwrap)
         for msg in warnings:
             self._warn(msg)
+        self.instance_plans = [plans[o] for o in targets if o in plans]
+        targets = [o for o in targets if o not in plans]
+        problems += _instances.plan_tiles(self.instance_plans, depsgraph, self.settings,
+                                          self._note)
+        problems += _instances.hidden_problems(targets, layer)
         emitters = find_emitters(scene, layer)
         self._note(uncounted_note(uncounted_emissive(scene, layer)))
         if any(e.kind == "DAYLIGHT" for e in emitters) and _daylight.problem(scene):
@@ -98,7 +109,6 @@ class ExposureBake:
                 "No emitters in the scene: add a lamp, count an emissive mesh (Count Emission as "
                 "Light), or give the world a "
                 "spectrum (Sky Schedule), and keep their LightFade 'Include in Aging' on")
-        depsgraph = bpy.context.evaluated_depsgraph_get()
         self.sizes, self.uv_plans = {}, {}
         for obj in targets:
             size, plan = planned_map(obj, depsgraph, self.settings)
@@ -109,7 +119,7 @@ class ExposureBake:
                 self.sizes[obj.name] = size
         if problems:
             raise LightFadeBakeError("\n".join(problems))
-        if not targets:
+        if not targets and not self.instance_plans:
             raise LightFadeBakeError("Nothing to bake: " + "; ".join(self.skipped))
         self.targets = targets
         self.emitters = emitters
@@ -119,13 +129,16 @@ class ExposureBake:
         for group in self.groups:
             names = set(group.member_names)
             objs = [o for o in targets if o.name not in names and not self._reusable(o, group)]
-            if objs:
+            if objs or self.instance_plans:   # instances are baked in every group
                 self.steps.append(_Step(group, objs))
-        # an object's maps are finished together, after its last group's bake
-        self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
-        self.work = [sum(self.sizes[o.name] ** 2 for o in s.objects) * self.settings.samples
-                     for s in self.steps]
+        self.work = [sum(n ** 2 for n in sizes) * self.settings.samples
+                     for sizes in self._step_sizes()]
         return self
+
+    def _step_sizes(self):
+        """Map widths per step: its objects' and one tile per instance placement."""
+        tiles = [p.tile for plan in self.instance_plans for p in [plan] * len(plan.placements)]
+        return [[self.sizes[o.name] for o in s.objects] + tiles for s in self.steps]
 
     def _plan_glass(self, scene, depsgraph, layer):
         """Windows (a portal over each while the sky is baked) and the refracting glass
@@ -163,8 +176,8 @@ class ExposureBake:
 
     def estimate(self):
         """:class:`.sizing.Estimate` of the planned bake."""
-        sizes = [[self.sizes[o.name] for o in s.objects] for s in self.steps]
-        return sizing.estimate(self.scene, sizes, self.settings.samples, self.settings.denoise)
+        return sizing.estimate(self.scene, self._step_sizes(), self.settings.samples,
+                               self.settings.denoise)
 
     def _warn(self, msg):
         self.skipped.append(msg)
@@ -183,7 +196,18 @@ class ExposureBake:
         return self
 
     def _prepare(self):
+        stand_ins = []
+        for plan in self.instance_plans:      # baked in the place of each instance
+            for obj in _instances.add_stand_ins(self.state, self.scene, plan):
+                stand_ins.append(obj)
+                self.sizes[obj.name], self.uv_plans[obj.name] = plan.tile, plan.uv
+        for step in self.steps:
+            step.objects = step.objects + stand_ins
+        # an object's maps are finished together, after its last group's bake
+        self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
+        self.baked = self.targets + stand_ins
         depsgraph = bpy.context.evaluated_depsgraph_get()
+        depsgraph.update()
         for obj in self.targets:
             plan = self.uv_plans[obj.name]
             if plan.make:
@@ -194,10 +218,14 @@ class ExposureBake:
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))
         self.state.configure(self.settings.samples, self.settings.margin, self.settings.seed)
-        self.nodes = attach_targets(self.state, self.targets)
+        for plan in self.instance_plans:      # stand-ins share their source's mesh
+            layers = plan.source.data.uv_layers
+            if layers.active.name != plan.uv.uv_name:
+                self.state.set(layers, "active_index", layers.find(plan.uv.uv_name))
+        self.nodes = attach_targets(self.state, self.baked)
         self.geometry = {}
         if self.settings.denoise:
-            for obj in self.targets:
+            for obj in self.baked:
                 self.geometry[obj.name] = texel_geometry(
                     obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
                     self.settings.margin)
@@ -296,7 +324,27 @@ class ExposureBake:
                 store_map(obj, group, image, self.uv_plans[obj.name].uv_name)
             prune_maps(obj, kept | set(baked))
             result[obj.name] = {item.name: item.image for item in obj.lightfade.exposure_maps}
+        for plan in self.instance_plans:
+            self._store_atlas(plan)
+            result[plan.source.name] = {item.name: item.image
+                                        for item in plan.source.lightfade.exposure_maps}
         return result
+
+    def _store_atlas(self, plan):
+        """Each light group's tiles of ``plan``'s placements packed into one atlas, stored
+        as the source's map; the tiles written where each instance reads them."""
+        source = plan.source
+        groups = {}
+        for obj in plan.stand_ins:
+            for name, (group, image) in self.maps.get(obj.name, {}).items():
+                groups.setdefault(name, (group, []))[1].append(_instances.read_pixels(image))
+        for name, (group, tiles) in groups.items():
+            atlas = self.state.new_image(f"{source.name}_{name}", plan.size)
+            atlas.pixels.foreach_set(_instances.pack_atlas(plan, tiles).ravel())
+            self.state.keep(atlas)
+            store_map(source, group, atlas, plan.uv.uv_name)
+        prune_maps(source, set(groups))
+        _instances.write_tiles(plan)
 
     def _merge(self, obj, group, parts):
         """Sum existing maps into ``group``'s map (a regroup without a bake)."""

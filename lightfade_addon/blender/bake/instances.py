@@ -1,0 +1,293 @@
+"""Instances baked where each one stands: one atlas of tiles per instanced source mesh.
+
+A collection instance (an empty instancing a collection) and a geometry-nodes instance
+render their source object's mesh and materials at another place.  The bake finds every
+placement of a source whose materials age (``depsgraph.object_instances``), puts a
+temporary object sharing the source's mesh at each placement's world matrix, bakes them
+all in the one Cycles call of each light group (the source itself made invisible to
+every ray meanwhile, so that neither it nor its instances shadow their stand-ins), and
+packs the maps into one **atlas** per source and light group: tile ``k`` of a
+``G × G`` grid (``G = ceil(√n)``) holds placement ``k``, each tile as wide as the
+largest placement needs on the scene's texel density.
+
+Each placement's tile is written where the material can read it per instance, as a
+rectangle ``(u0, v0, s)`` (the tile's corner and width in the atlas's 0-1 square):
+
+* a collection instance: a custom property on the instancing empty, named
+  :func:`tile_attribute` of the source;
+* the source standing in the scene itself: the same property on the source;
+* a geometry-nodes instance: an instance attribute of the same name, stored by a
+  LightFade modifier added after the artist's (:mod:`..aging.instances`).
+
+The aging group reads it with an Attribute node of type *Instancer* (Cycles and EEVEE:
+an instance reads its instancer's property or its instance attribute, an object that is
+not an instance its own property) and samples the atlas at ``uv · s + (u0, v0)``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import dataclass, field
+
+import bpy
+import numpy as np
+
+from .common import TEMP_PREFIX
+
+#: Prefix of the per-source attribute (a custom property, or an instance attribute)
+#: holding a placement's tile ``(u0, v0, s)``.
+TILE_PREFIX = "lf_tile_"
+#: Ray visibility flags an instance's source is hidden from while its stand-ins bake.
+RAY_FLAGS = ("visible_camera", "visible_diffuse", "visible_glossy", "visible_transmission",
+             "visible_volume_scatter", "visible_shadow")
+
+
+def tile_attribute(source):
+    """The attribute name holding ``source``'s tiles (stable: the source's name and library)."""
+    lib = source.library.filepath if source.library is not None else ""
+    return TILE_PREFIX + hashlib.sha1(f"{lib}|{source.name}".encode()).hexdigest()[:8]
+
+
+@dataclass
+class Placement:
+    """One place a source is rendered: itself (``instancer`` None) or an instance."""
+
+    instancer: object          # bpy.types.Object or None
+    kind: str                  # "OWN", "COLLECTION", "GEOMETRY"
+    pid: tuple                 # persistent id within the instancer
+    matrix: object             # mathutils.Matrix, world
+
+    @property
+    def key(self):
+        """Identity of the placement: instancer name and persistent id."""
+        return f"{self.instancer.name if self.instancer else ''}|{self.kind}|" \
+               f"{','.join(str(i) for i in self.pid)}"
+
+
+@dataclass
+class SourcePlan:
+    """The placements of one source mesh, their tiles and tile width."""
+
+    source: object
+    placements: list
+    tile: int = 16
+    stand_ins: list = field(default_factory=list)   # temporary objects, while baking
+
+    @property
+    def grid(self):
+        return max(1, math.ceil(math.sqrt(len(self.placements))))
+
+    @property
+    def size(self):
+        """Atlas width: ``grid × tile`` texels."""
+        return self.grid * self.tile
+
+    def rect(self, k):
+        """Tile ``k``'s ``(u0, v0, s)`` in the atlas's 0-1 square (row 0 at v = 0)."""
+        g = self.grid
+        return ((k % g) / g, (k // g) / g, 1.0 / g)
+
+
+def _ages(obj):
+    return obj.type == "MESH" and any(
+        s.material is not None and s.material.lightfade.enabled for s in obj.material_slots)
+
+
+def _own_rendered(obj, view_layer):
+    """``obj`` itself renders in ``view_layer`` (not only through instances)."""
+    return (view_layer.objects.get(obj.name) is obj and not obj.hide_render
+            and obj.visible_get(view_layer=view_layer))
+
+
+def find_placements(depsgraph, view_layer, chosen=()):
+    """``{source: [Placement]}`` of every instanced mesh whose materials age, with its own
+    placement first when it renders itself; ``chosen`` (objects) limits the search to
+    those sources and instancers."""
+    found = {}
+    chosen = set(chosen)
+    for inst in depsgraph.object_instances:
+        if not inst.is_instance or inst.object is None:
+            continue
+        source = inst.object.original
+        parent = inst.parent.original if inst.parent is not None else None
+        if parent is None or not _ages(source):
+            continue
+        if chosen and source not in chosen and parent not in chosen:
+            continue
+        kind = "COLLECTION" if (parent.instance_type == "COLLECTION"
+                                and parent.instance_collection is not None) else "GEOMETRY"
+        found.setdefault(source, []).append(
+            Placement(parent, kind, tuple(inst.persistent_id), inst.matrix_world.copy()))
+    plans = {}
+    for source, placements in found.items():
+        placements.sort(key=lambda p: p.key)
+        if _own_rendered(source, view_layer):
+            placements.insert(0, Placement(None, "OWN", (), source.matrix_world.copy()))
+        plans[source] = SourcePlan(source, placements)
+    return plans
+
+
+def _scale(matrix):
+    """Linear scale of a world matrix: ``|det|^(1/3)``."""
+    return abs(matrix.to_3x3().determinant()) ** (1.0 / 3.0)
+
+
+def tile_width(source_size, source_matrix, placements, max_size):
+    """The tile width (texels, a multiple of 8, at least 16): the source's map width at its
+    own scale times the largest placement's scale over it."""
+    own = max(_scale(source_matrix), 1e-9)
+    n = max(source_size * _scale(p.matrix) / own for p in placements)
+    return int(min(max(16, math.ceil(n / 8.0) * 8), max(16, int(max_size) // 8 * 8)))
+
+
+def geometry_note(plans):
+    """One line for the geometry-nodes placements this bake does not age per instance."""
+    names = sorted({p.instancer.name for plan in plans.values() for p in plan.placements
+                    if p.kind == "GEOMETRY"})
+    if not names:
+        return ""
+    return ("Geometry-nodes instances of " + ", ".join(f"\"{n}\"" for n in names) +
+            " are not aged per instance in this version: make them real, or instance a "
+            "collection from an empty")
+
+
+def plan_tiles(plans, depsgraph, settings, note):
+    """Size each source's tiles and check its UV map; returns problem lines.  Drops the
+    placements this version does not bake (geometry-nodes instances, said once)."""
+    from .sizing import planned_map
+
+    note(geometry_note({p.source: p for p in plans}))
+    problems = []
+    for plan in list(plans):
+        plan.placements = [p for p in plan.placements if p.kind != "GEOMETRY"]
+        if not plan.placements:
+            plans.remove(plan)
+            continue
+        size, uv = planned_map(plan.source, depsgraph, settings)
+        if isinstance(uv, str):
+            problems.append(uv)
+            continue
+        if uv.make:
+            problems.append(f"\"{plan.source.name}\" is instanced and its UVs overlap or are "
+                            "missing: give its mesh a UV map without overlaps (U > Smart UV "
+                            "Project) and bake again")
+            continue
+        plan.uv = uv
+        plan.tile = tile_width(size, plan.source.matrix_world, plan.placements,
+                               settings.max_size)
+    return problems
+
+
+def hidden_problems(targets, view_layer):
+    """One line per target Cycles cannot bake where it stands: not in the view layer (its
+    collection excluded) or disabled in viewports."""
+    out = []
+    for obj in targets:
+        if view_layer.objects.get(obj.name) is not obj or obj.hide_viewport:
+            out.append(f"\"{obj.name}\" is hidden from the bake (its collection is excluded or "
+                       "it is disabled in viewports) and nothing instances it: show it, or "
+                       "bake it through its instances")
+    return out
+
+
+# ----------------------------------------------------------------------- baking
+
+
+def add_stand_ins(state, scene, plan):
+    """A temporary object sharing ``plan.source``'s mesh at each placement (baked in its
+    place); the source hidden from every ray meanwhile (its instances with it).  All
+    removed and restored on exit of ``state``."""
+    source = plan.source
+    flags = {f: getattr(source, f) for f in RAY_FLAGS if hasattr(source, f)}
+    for flag in flags:
+        state.set(source, flag, False)
+    plan.stand_ins = []
+    for k, placement in enumerate(plan.placements):
+        obj = source.copy()
+        obj.name = f"{TEMP_PREFIX}{source.name}#{k}"
+        obj.parent = None
+        for flag, value in flags.items():
+            setattr(obj, flag, value)
+        obj.hide_render = obj.hide_viewport = False
+        scene.collection.objects.link(obj)
+        obj.matrix_world = placement.matrix
+        state.push(lambda o=obj: bpy.data.objects.remove(o))
+        plan.stand_ins.append(obj)
+    return plan.stand_ins
+
+
+def read_pixels(image):
+    w, h = image.size
+    px = np.empty(w * h * 4, dtype=np.float32)
+    image.pixels.foreach_get(px)
+    return px.reshape(h, w, 4)
+
+
+def pack_atlas(plan, tiles):
+    """``(size, size, 4)`` float32 atlas of ``tiles`` (``[(H, W, 4)]``, placement order)."""
+    n, g = plan.tile, plan.grid
+    atlas = np.zeros((g * n, g * n, 4), dtype=np.float32)
+    atlas[..., 3] = 1.0
+    for k, px in enumerate(tiles):
+        row, col = divmod(k, g)
+        atlas[row * n:(row + 1) * n, col * n:(col + 1) * n] = px
+    return atlas
+
+
+# ----------------------------------------------------------------------- records
+
+
+def record(plan):
+    """JSON of the placements baked (key and rounded world matrix), for staleness."""
+    return json.dumps([[p.key, [round(v, 4) for row in p.matrix for v in row]]
+                       for p in plan.placements])
+
+
+def write_tiles(plan):
+    """Store each placement's tile where the material reads it; forget older tiles."""
+    name = tile_attribute(plan.source)
+    clear_tiles(name)
+    for k, placement in enumerate(plan.placements):
+        holder = placement.instancer if placement.instancer is not None else plan.source
+        if placement.kind in ("OWN", "COLLECTION"):
+            holder[name] = list(plan.rect(k))
+    props = plan.source.lightfade
+    props.instance_tiles = name
+    props.instance_record = record(plan)
+
+
+def clear_tiles(name):
+    """Remove the tile property ``name`` from every object of the file."""
+    for obj in bpy.data.objects:
+        if obj.library is None and name in obj.keys():
+            del obj[name]
+
+
+def remove_instance_data(objects):
+    """Reset: the tile properties of ``objects`` (sources) and their records gone."""
+    for obj in objects:
+        props = obj.lightfade
+        if props.instance_tiles:
+            clear_tiles(props.instance_tiles)
+            props.instance_tiles = ""
+            props.instance_record = ""
+
+
+def instance_sources(scene=None):
+    """Sources aged per instance (objects with an atlas), in the file."""
+    return [o for o in bpy.data.objects if o.type == "MESH" and o.lightfade.instance_tiles]
+
+
+def stale_placements(depsgraph, view_layer, source):
+    """Keys of ``source``'s placements that moved, appeared or went since its bake."""
+    try:
+        baked = dict((k, m) for k, m in json.loads(source.lightfade.instance_record or "[]"))
+    except ValueError:
+        return ["(unreadable record)"]
+    plan = find_placements(depsgraph, view_layer, ()).get(source)
+    now = {} if plan is None else {p.key: [round(v, 4) for row in p.matrix for v in row]
+                                   for p in plan.placements}
+    stale = [k for k in now if k not in baked or not np.allclose(baked[k], now[k], atol=1e-3)]
+    return stale + [k for k in baked if k not in now]

@@ -1,0 +1,181 @@
+"""Four instances of one chair collection around a table, two in the sun, two in a wall's
+shadow: the scene of issue 37 (instances aged where each one stands).
+
+``build()`` makes it in the current file (the tests use it); run as a script, it bakes,
+ages 30 years and renders the chairs before and after, side by side::
+
+    ./run py -m scenes.instanced_chairs out/chairs            # before.png, after.png, sheet.png
+
+The chair is one mesh (seat, back, four legs) with its own non-overlapping UVs in a
+collection that is not in the scene: only the four empties instance it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+import bpy
+import numpy as np
+
+#: Where the four chairs stand (x, y, rotation about z in degrees, facing the table): two at x < 0 in the
+#: sun, two at x > 0 behind the wall.
+CHAIRS = ((-1.6, -0.9, 90.0), (-1.6, 0.9, 90.0), (1.6, -0.9, -90.0), (1.6, 0.9, -90.0))
+#: The wall's centre and size (m): it shades x > 0.3 from a sun 40 degrees from the zenith
+#: (its shadow reaches y = 1.6).
+WALL = ((2.0, -2.6, 2.5), (3.4, 0.1, 5.0))
+
+
+def _box(verts, faces, uvs, centre, size, cell):
+    """Append an axis-aligned box with each face in its own UV cell (``cell`` = (first
+    index, cells per row)): a non-overlapping unwrap."""
+    cx, cy, cz = centre
+    hx, hy, hz = (s / 2 for s in size)
+    corners = [(cx + sx * hx, cy + sy * hy, cz + sz * hz)
+               for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
+    quads = ((0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3))
+    first, per_row = cell
+    for k, quad in enumerate(quads):
+        i = first + k
+        u0, v0, w = (i % per_row) / per_row, (i // per_row) / per_row, 1.0 / per_row
+        pad = 0.08 * w
+        base = len(verts)
+        verts.extend(corners[q] for q in quad)
+        faces.append(tuple(range(base, base + 4)))
+        uvs.extend([(u0 + pad, v0 + pad), (u0 + w - pad, v0 + pad),
+                    (u0 + w - pad, v0 + w - pad), (u0 + pad, v0 + w - pad)])
+
+
+def chair_mesh(name="Chair"):
+    """Seat, back and four legs as one mesh with a non-overlapping UV map."""
+    parts = [((0, 0, 0.45), (0.45, 0.45, 0.05)), ((0, 0.2, 0.75), (0.45, 0.05, 0.55))]
+    parts += [((sx * 0.19, sy * 0.19, 0.21), (0.05, 0.05, 0.42))
+              for sx in (-1, 1) for sy in (-1, 1)]
+    verts, faces, uvs = [], [], []
+    per_row = math.ceil(math.sqrt(6 * len(parts)))
+    for k, (centre, size) in enumerate(parts):
+        _box(verts, faces, uvs, centre, size, (6 * k, per_row))
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    layer = mesh.uv_layers.new(name="UVMap")
+    layer.data.foreach_set("uv", np.array(uvs, dtype=np.float32).ravel())
+    return mesh
+
+
+def _material(name, rgb, ages):
+    mat = bpy.data.materials.new(name)
+    if bpy.app.version < (5, 0, 0):
+        mat.use_nodes = True
+    mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*rgb, 1.0)
+    mat.lightfade.enabled = ages
+    return mat
+
+
+def _plane(name, size, location, rotation=(0.0, 0.0, 0.0), material=None):
+    bpy.ops.mesh.primitive_plane_add(size=1.0, location=location, rotation=rotation)
+    obj = bpy.context.active_object
+    obj.name = name
+    obj.scale = (*size, 1.0)
+    if material is not None:
+        obj.data.materials.append(material)
+    return obj
+
+
+def build():
+    """The scene in the current (empty) file: returns its parts."""
+    scene = bpy.context.scene
+    fabric = _material("Chair Fabric", (0.55, 0.08, 0.1), ages=True)
+    grey = _material("Grey", (0.5, 0.5, 0.5), ages=False)
+    collection = bpy.data.collections.new("Chair")       # not linked to the scene
+    chair = bpy.data.objects.new("Chair", chair_mesh())
+    chair.data.materials.append(fabric)
+    collection.objects.link(chair)
+    empties = []
+    for i, (x, y, rz) in enumerate(CHAIRS):
+        empty = bpy.data.objects.new(f"Chair {i + 1}", None)
+        empty.instance_type = "COLLECTION"
+        empty.instance_collection = collection
+        empty.location = (x, y, 0.0)
+        empty.rotation_euler = (0.0, 0.0, math.radians(rz))
+        scene.collection.objects.link(empty)
+        empties.append(empty)
+    floor = _plane("Floor", (8.0, 8.0), (0.0, 0.0, 0.0), material=grey)
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, 0.36))
+    table = bpy.context.active_object
+    table.name = "Table"
+    table.scale = (1.2, 1.6, 0.72)
+    table.data.materials.append(grey)
+    (wx, wy, wz), (sx, sy, sz) = WALL
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(wx, wy, wz))
+    wall = bpy.context.active_object
+    wall.name = "Wall"
+    wall.scale = (sx, sy, sz)
+    wall.data.materials.append(grey)
+    sun_data = bpy.data.lights.new("Sun", "SUN")
+    sun_data.energy = 3.0
+    sun_data.angle = math.radians(1.0)
+    sun = bpy.data.objects.new("Sun", sun_data)
+    scene.collection.objects.link(sun)
+    sun.rotation_euler = (math.radians(40.0), 0.0, 0.0)        # from -y, shadows fall to +y
+    for o in bpy.context.view_layer.objects:
+        o.select_set(False)
+    return {"chair": chair, "collection": collection, "empties": empties, "floor": floor,
+            "table": table, "wall": wall, "sun": sun, "material": fabric}
+
+
+def add_camera(scene):
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(cam)
+    cam.location = (0.0, 7.0, 5.5)                  # from the north: the wall behind
+    cam.rotation_euler = (math.radians(52.0), 0.0, math.radians(180.0))
+    cam.data.lens = 35.0
+    scene.camera = cam
+    world = bpy.data.worlds.new("World")
+    if bpy.app.version < (5, 0, 0):
+        world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.15
+    scene.world = world
+    return cam
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("out", type=Path)
+    parser.add_argument("--years", type=float, default=30.0)
+    parser.add_argument("--samples", type=int, default=64)
+    args = parser.parse_args(argv)
+    import addon_utils
+
+    from scenes.render import configure_render
+    from lightfade_addon import api
+    from lightfade_addon.contact_sheet import contact_sheet
+    from PIL import Image
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    addon_utils.enable("lightfade_addon", default_set=True)
+    scene = bpy.context.scene
+    build()
+    add_camera(scene)
+    configure_render(scene, 640, 400, args.samples, view_transform="Standard")
+    args.out.mkdir(parents=True, exist_ok=True)
+    result = api.bake(scene, quality="PREVIEW")
+    print("baked", list(result["maps"]), f"{result['seconds']:.1f} s")
+    api.age_scene(scene, years=0)
+    frames = []
+    for years, name in ((0.0, "before"), (args.years, "after")):
+        api.set_years(scene, years)
+        scene.render.filepath = str(args.out / f"{name}.png")
+        bpy.ops.render.render(write_still=True)
+        frames.append((scene.render.filepath, f"{years:g} years"))
+    bpy.ops.wm.save_as_mainfile(filepath=str(args.out / "chairs.blend"))
+    sheet = contact_sheet([Image.open(p).convert("RGB") for p, _ in frames],
+                          [label for _, label in frames],
+                          ["chairs 1-2 in the sun, 3-4 behind the wall"] * 2,
+                          title="One chair collection instanced four times: aged per instance")
+    sheet.save(args.out / "sheet.png")
+    print("wrote", args.out / "sheet.png")
+
+
+if __name__ == "__main__":
+    main()

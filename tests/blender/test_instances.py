@@ -1,0 +1,231 @@
+"""Collection instances age where each one stands (issue 37): one atlas per source, a tile
+per instance read through an Instancer attribute; nothing of the artist's data changed."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+bpy = pytest.importorskip("bpy")
+
+from scenes import instanced_chairs  # noqa: E402
+
+
+@pytest.fixture
+def chairs(blender):
+    parts = instanced_chairs.build()
+    scene = bpy.context.scene
+    scene.lightfade.bake_resolution = 32
+    scene.lightfade.bake_samples = 8
+    return parts
+
+
+def _tiles(chair):
+    """Mean lux of each placement's tile of ``chair``'s first atlas."""
+    image = chair.lightfade.exposure_maps[0].image
+    w, h = image.size
+    px = np.empty(w * h * 4, dtype=np.float32)
+    image.pixels.foreach_get(px)
+    lux = px.reshape(h, w, 4)[..., 0]
+    name = chair.lightfade.instance_tiles
+    out = {}
+    for empty in bpy.context.scene.objects:
+        if name in empty.keys():
+            u0, v0, s = empty[name]
+            n = int(round(s * w))
+            x, y = int(round(u0 * w)), int(round(v0 * h))
+            tile = lux[y:y + n, x:x + n]
+            out[empty.name] = float(tile[tile > 0].mean())
+    return out
+
+
+def test_each_instance_bakes_its_own_tile(chairs):
+    """The four chairs get four tiles of one atlas: the two in the sun several times the
+    lux of the two behind the wall; no stand-in is left, the mesh and collection as they were."""
+    from lightfade_addon import api
+
+    chair = chairs["chair"]
+    mesh_before = (len(chair.data.vertices), [uv.name for uv in chair.data.uv_layers])
+    result = api.bake(bpy.context.scene)
+    assert list(result["maps"]) == ["Chair"]
+    tiles = _tiles(chair)
+    assert sorted(tiles) == ["Chair 1", "Chair 2", "Chair 3", "Chair 4"]
+    sun = min(tiles["Chair 1"], tiles["Chair 2"])
+    shade = max(tiles["Chair 3"], tiles["Chair 4"])
+    assert sun > 3 * shade, tiles
+    assert not [o for o in bpy.data.objects if o.name.startswith("LF_TMP_")]
+    assert (len(chair.data.vertices), [uv.name for uv in chair.data.uv_layers]) == mesh_before
+    assert all(e.instance_collection == chairs["collection"] for e in chairs["empties"])
+    assert chair.name not in bpy.context.scene.objects          # never put in the scene
+
+
+def test_the_source_itself_is_a_tile_when_it_renders(chairs):
+    """A source standing in the scene gets its own tile (its own property), and hides from
+    the bake while its stand-ins bake: it shadows nothing twice."""
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    chair = chairs["chair"]
+    scene.collection.objects.link(chair)       # at the origin, inside the table
+    api.bake(scene)
+    name = chair.lightfade.instance_tiles
+    tiles = _tiles(chair)
+    assert name in chair.keys() and len(tiles) == 5
+    assert tiles["Chair"] < 0.6 * tiles["Chair 1"], tiles      # half under the table top
+    assert chair.visible_shadow and chair.visible_camera           # flags put back
+
+
+RENDER = """
+import sys, numpy as np, bpy
+bpy.context.preferences.filepaths.use_scripts_auto_execute = False
+bpy.ops.wm.open_mainfile(filepath={path!r}, load_ui=False)
+assert not hasattr(bpy.types.Scene, "lightfade"), "LightFade must not be installed here"
+scene = bpy.context.scene
+scene.render.engine = {engine!r}
+out = []
+for years in (0.0, 30.0):
+    scene["lightfade_years"] = years
+    scene.render.filepath = {png!r}
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load({png!r})
+    out.append(np.array(image.pixels[:], dtype=np.float32).reshape(
+        image.size[1], image.size[0], 4)[..., :3])
+    bpy.data.images.remove(image)
+np.save({npy!r}, np.stack(out))
+"""
+
+
+def _top_camera(scene):
+    cam = bpy.data.objects.new("Top", bpy.data.cameras.new("Top"))
+    scene.collection.objects.link(cam)
+    cam.data.type = "ORTHO"
+    cam.data.ortho_scale = 6.0
+    cam.location = (0.0, 0.0, 6.0)
+    scene.camera = cam
+    scene.render.resolution_x = scene.render.resolution_y = 96
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.view_settings.view_transform = "Standard"
+    scene.cycles.samples = 4
+
+
+def _seat(x, y):
+    """Pixel (row, column) of a seat at world (x, y) in :func:`_top_camera`'s view."""
+    return int((y + 3.0) / 6.0 * 96), int((x + 3.0) / 6.0 * 96)
+
+
+def _fade_per_chair(tmp_path, engine):
+    from lightfade_addon.core.colour.colorimetry import (XYZ_to_Lab, delta_E_2000,
+                                                         linear_srgb_to_XYZ)
+
+    def lab(rgb):
+        return XYZ_to_Lab(linear_srgb_to_XYZ(np.asarray(rgb, float).reshape(-1, 3)))
+
+    path, png, npy = tmp_path / "chairs.blend", tmp_path / "r.exr", tmp_path / "r.npy"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    code = RENDER.format(path=str(path), engine=engine, png=str(png), npy=str(npy))
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=600)
+    assert run.returncode == 0, run.stderr[-2000:]
+    frames = np.load(npy)
+    fades = []
+    for x, y, _rz in instanced_chairs.CHAIRS:
+        r, c = _seat(x, y)
+        before, after = (f[r - 1:r + 2, c - 1:c + 2].reshape(-1, 3) for f in frames)
+        fades.append(float(np.median(delta_E_2000(lab(np.clip(before, 1e-6, None)),
+                                                  lab(np.clip(after, 1e-6, None))))))
+    return fades
+
+
+def test_a_saved_file_renders_each_instance_aged_without_lightfade(chairs, tmp_path):
+    """Cycles in a fresh process without LightFade: the seats in the sun fade, the seats
+    in the wall's shadow barely change (one material, four tiles)."""
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    _top_camera(scene)
+    api.bake(scene)
+    copies = api.age_scene(scene, years=0)
+    assert [c.name for c in copies] == ["LF_Aged_Chair Fabric.Chair"]
+    fades = _fade_per_chair(tmp_path, "CYCLES")
+    assert min(fades[:2]) > 5 and max(fades[2:]) < 0.4 * min(fades[:2]), fades
+
+
+@pytest.mark.slow
+def test_eevee_renders_each_instance_aged(chairs, tmp_path):
+    """EEVEE reads the same tiles (Attribute node, Instancer)."""
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    _top_camera(scene)
+    api.bake(scene)
+    api.age_scene(scene, years=0)
+    eevee = "BLENDER_EEVEE_NEXT" if bpy.app.version < (5, 0, 0) else "BLENDER_EEVEE"
+    fades = _fade_per_chair(tmp_path, eevee)
+    assert min(fades[:2]) > 5 and max(fades[2:]) < 0.4 * min(fades[:2]), fades
+
+
+def test_reset_restores_the_file(chairs):
+    """Reset with the exposure removes the atlas, the tile properties and the aged copy:
+    every object's custom properties, slots and the images are as before."""
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    chair = chairs["chair"]
+
+    def state():
+        return ({o.name: sorted(o.keys()) for o in bpy.data.objects},
+                [(s.link, s.material.name) for s in chair.material_slots],
+                sorted(i.name for i in bpy.data.images),
+                sorted(m.name for m in bpy.data.materials))
+
+    before = state()
+    api.bake(scene)
+    api.age_scene(scene, years=10)
+    assert chair.material_slots[0].material.name.startswith("LF_Aged_")
+    api.reset(scene, exposure=True)
+    assert state() == before
+    assert chair.lightfade.instance_tiles == "" and not chair.lightfade.exposure_maps
+
+
+def test_a_moved_instance_is_stale_until_rebaked(chairs):
+    """Moving an empty makes the aged copy stale ("bake exposure again"); a re-bake fixes it."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging.apply import stale_message
+
+    scene = bpy.context.scene
+    api.bake(scene)
+    (copy,) = api.age_scene(scene, years=10)
+    assert stale_message(scene, copy) == ""
+    chairs["empties"][2].location.x += 0.5
+    bpy.context.view_layer.update()
+    message = stale_message(scene, copy)
+    assert "Chair 3" in message and message.endswith("bake exposure again")
+    api.bake(scene)
+    assert stale_message(scene, copy) == ""
+
+
+def test_export_of_an_instanced_source_is_refused_in_one_line(chairs, tmp_path):
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging.apply import apply_aging, write_aged_file
+    from lightfade_addon.blender.errors import AgingError
+
+    scene = bpy.context.scene
+    api.bake(scene)
+    (copy,) = api.age_scene(scene, years=10)
+    with pytest.raises(AgingError, match="aged per instance") as err:
+        write_aged_file(scene, copy, 10.0, str(tmp_path / "x.png"))
+    assert "\n" not in str(err.value)
+    assert apply_aging(scene) == {}             # the live aging stays; nothing applied
+    assert copy.lightfade.aged_image is None
+
+
+def test_a_hidden_target_says_so_in_one_line(floor_scene):
+    """A mesh disabled in viewports that nothing instances: one line, not Cycles' poll error."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.bake import LightFadeBakeError
+
+    floor_scene["floor"].hide_viewport = True
+    with pytest.raises(LightFadeBakeError) as err:
+        api.bake(bpy.context.scene)
+    assert "\"Floor\" is hidden" in str(err.value) and "\n" not in str(err.value)
