@@ -1,5 +1,6 @@
 """Four instances of one chair collection around a table, two in the sun, two in a wall's
-shadow: the scene of issue 37 (instances aged where each one stands).
+shadow, and a geometry-nodes line of books half in the sun: the scene of issue 37
+(instances aged where each one stands).
 
 ``build()`` makes it in the current file (the tests use it); run as a script, it bakes,
 ages 30 years and renders the chairs before and after, side by side::
@@ -63,6 +64,44 @@ def chair_mesh(name="Chair"):
     return mesh
 
 
+#: The geometry-nodes line of books in front of the wall: first book's x, spacing, count
+#: (four in the sun at x < 0.3, four in the shade).
+BOOKS = (-2.8, 0.8, 8)
+BOOK_Y = -1.9
+
+
+def book_mesh(name="Book"):
+    """A standing book (4 × 16 × 24 cm) with a non-overlapping UV map."""
+    verts, faces, uvs = [], [], []
+    _box(verts, faces, uvs, (0.0, 0.0, 0.12), (0.04, 0.16, 0.24), (0, 3))
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    layer = mesh.uv_layers.new(name="UVMap")
+    layer.data.foreach_set("uv", np.array(uvs, dtype=np.float32).ravel())
+    return mesh
+
+
+def scatter_tree(source, start, step, count, y):
+    """Geometry nodes: ``count`` instances of ``source`` along x (a Mesh Line)."""
+    tree = bpy.data.node_groups.new("Book Line", "GeometryNodeTree")
+    for side in ("INPUT", "OUTPUT"):
+        tree.interface.new_socket("Geometry", in_out=side, socket_type="NodeSocketGeometry")
+    nodes, links = tree.nodes, tree.links
+    line = nodes.new("GeometryNodeMeshLine")
+    line.inputs["Count"].default_value = count
+    line.inputs["Start Location"].default_value = (start, y, 0.0)
+    line.inputs["Offset"].default_value = (step, 0.0, 0.0)
+    info = nodes.new("GeometryNodeObjectInfo")
+    info.inputs["Object"].default_value = source
+    info.inputs["As Instance"].default_value = True
+    place = nodes.new("GeometryNodeInstanceOnPoints")
+    links.new(line.outputs[0], place.inputs["Points"])
+    links.new(info.outputs["Geometry"], place.inputs["Instance"])
+    links.new(place.outputs[0], nodes.new("NodeGroupOutput").inputs[0])
+    nodes.new("NodeGroupInput")
+    return tree
+
+
 def _material(name, rgb, ages):
     mat = bpy.data.materials.new(name)
     if bpy.app.version < (5, 0, 0):
@@ -100,6 +139,14 @@ def build():
         empty.rotation_euler = (0.0, 0.0, math.radians(rz))
         scene.collection.objects.link(empty)
         empties.append(empty)
+    cloth = _material("Book Cloth", (0.1, 0.25, 0.6), ages=True)
+    book = bpy.data.objects.new("Book", book_mesh())
+    book.data.materials.append(cloth)
+    scene.collection.objects.link(book)
+    book.hide_viewport = book.hide_render = True              # a scatter's source, hidden
+    shelf = bpy.data.objects.new("Books", bpy.data.meshes.new("Books"))
+    scene.collection.objects.link(shelf)
+    shelf.modifiers.new("Book Line", "NODES").node_group = scatter_tree(book, *BOOKS, BOOK_Y)
     floor = _plane("Floor", (8.0, 8.0), (0.0, 0.0, 0.0), material=grey)
     bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, 0.36))
     table = bpy.context.active_object
@@ -121,7 +168,8 @@ def build():
     for o in bpy.context.view_layer.objects:
         o.select_set(False)
     return {"chair": chair, "collection": collection, "empties": empties, "floor": floor,
-            "table": table, "wall": wall, "sun": sun, "material": fabric}
+            "table": table, "wall": wall, "sun": sun, "material": fabric, "book": book,
+            "books": shelf, "cloth": cloth}
 
 
 def add_camera(scene):
@@ -171,7 +219,7 @@ def main(argv=None):
     bpy.ops.wm.save_as_mainfile(filepath=str(args.out / "chairs.blend"))
     sheet = contact_sheet([Image.open(p).convert("RGB") for p, _ in frames],
                           [label for _, label in frames],
-                          ["chairs 1-2 in the sun, 3-4 behind the wall"] * 2,
+                          ["chairs 1-2 and the books at x < 0 in the sun"] * 2,
                           title="One chair collection instanced four times: aged per instance")
     sheet.save(args.out / "sheet.png")
     print("wrote", args.out / "sheet.png")

@@ -21,23 +21,37 @@ def chairs(blender):
     return parts
 
 
-def _tiles(chair):
-    """Mean lux of each placement's tile of ``chair``'s first atlas."""
-    image = chair.lightfade.exposure_maps[0].image
+def _atlas(source):
+    image = source.lightfade.exposure_maps[0].image
     w, h = image.size
     px = np.empty(w * h * 4, dtype=np.float32)
     image.pixels.foreach_get(px)
-    lux = px.reshape(h, w, 4)[..., 0]
+    return px.reshape(h, w, 4)[..., 0]
+
+
+def _tile_mean(lux, rect):
+    h, w = lux.shape
+    u0, v0, s = rect
+    n, x, y = int(round(s * w)), int(round(u0 * w)), int(round(v0 * h))
+    tile = lux[y:y + n, x:x + n]
+    return float(tile[tile > 0].mean())
+
+
+def _tiles(chair):
+    """Mean lux of each placement's tile of ``chair``'s first atlas."""
+    lux = _atlas(chair)
     name = chair.lightfade.instance_tiles
-    out = {}
-    for empty in bpy.context.scene.objects:
-        if name in empty.keys():
-            u0, v0, s = empty[name]
-            n = int(round(s * w))
-            x, y = int(round(u0 * w)), int(round(v0 * h))
-            tile = lux[y:y + n, x:x + n]
-            out[empty.name] = float(tile[tile > 0].mean())
-    return out
+    return {o.name: _tile_mean(lux, o[name]) for o in bpy.context.scene.objects
+            if name in o.keys()}
+
+
+def _book_tiles(book):
+    """Mean lux of each book instance's tile (the LightFade modifier's data, in order)."""
+    from lightfade_addon.blender.bake.instance_tiles import data_objects
+
+    (data,) = data_objects()
+    lux = _atlas(book)
+    return [_tile_mean(lux, v.co) for v in data.data.vertices]
 
 
 def test_each_instance_bakes_its_own_tile(chairs):
@@ -48,7 +62,7 @@ def test_each_instance_bakes_its_own_tile(chairs):
     chair = chairs["chair"]
     mesh_before = (len(chair.data.vertices), [uv.name for uv in chair.data.uv_layers])
     result = api.bake(bpy.context.scene)
-    assert list(result["maps"]) == ["Chair"]
+    assert sorted(result["maps"]) == ["Book", "Chair"]
     tiles = _tiles(chair)
     assert sorted(tiles) == ["Chair 1", "Chair 2", "Chair 3", "Chair 4"]
     sun = min(tiles["Chair 1"], tiles["Chair 2"])
@@ -58,6 +72,30 @@ def test_each_instance_bakes_its_own_tile(chairs):
     assert (len(chair.data.vertices), [uv.name for uv in chair.data.uv_layers]) == mesh_before
     assert all(e.instance_collection == chairs["collection"] for e in chairs["empties"])
     assert chair.name not in bpy.context.scene.objects          # never put in the scene
+
+
+def _tree_state(tree):
+    return (sorted(n.name for n in tree.nodes),
+            sorted((l.from_node.name, l.from_socket.identifier, l.to_node.name,
+                    l.to_socket.identifier) for l in tree.links))
+
+
+def test_geometry_nodes_instances_bake_their_own_tiles(chairs):
+    """Eight books scattered by geometry nodes from a hidden source: one tile each, the four
+    in the sun several times the lux of the four in the shade; the artist's tree untouched,
+    LightFade's modifier after it, the source still hidden."""
+    from lightfade_addon import api
+
+    books, book = chairs["books"], chairs["book"]
+    tree = books.modifiers[0].node_group
+    before = _tree_state(tree)
+    api.bake(bpy.context.scene)
+    lux = _book_tiles(book)
+    assert len(lux) == instanced_chairs.BOOKS[2]
+    assert min(lux[:4]) > 3 * max(lux[4:]), lux
+    assert _tree_state(tree) == before
+    assert [m.name for m in books.modifiers] == ["Book Line", "LightFade Tiles"]
+    assert book.hide_viewport and book.hide_render
 
 
 def test_the_source_itself_is_a_tile_when_it_renders(chairs):
@@ -103,7 +141,7 @@ def _top_camera(scene):
     cam.data.ortho_scale = 6.0
     cam.location = (0.0, 0.0, 6.0)
     scene.camera = cam
-    scene.render.resolution_x = scene.render.resolution_y = 96
+    scene.render.resolution_x = scene.render.resolution_y = 192
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.view_settings.view_transform = "Standard"
     scene.cycles.samples = 4
@@ -111,7 +149,7 @@ def _top_camera(scene):
 
 def _seat(x, y):
     """Pixel (row, column) of a seat at world (x, y) in :func:`_top_camera`'s view."""
-    return int((y + 3.0) / 6.0 * 96), int((x + 3.0) / 6.0 * 96)
+    return int((y + 3.0) / 6.0 * 192), int((x + 3.0) / 6.0 * 192)
 
 
 def _fade_per_chair(tmp_path, engine):
@@ -128,13 +166,24 @@ def _fade_per_chair(tmp_path, engine):
                          timeout=600)
     assert run.returncode == 0, run.stderr[-2000:]
     frames = np.load(npy)
-    fades = []
-    for x, y, _rz in instanced_chairs.CHAIRS:
+
+    def fade(x, y, dr, dc):
         r, c = _seat(x, y)
-        before, after = (f[r - 1:r + 2, c - 1:c + 2].reshape(-1, 3) for f in frames)
-        fades.append(float(np.median(delta_E_2000(lab(np.clip(before, 1e-6, None)),
-                                                  lab(np.clip(after, 1e-6, None))))))
-    return fades
+        before, after = (f[r - dr:r + dr + 1, c - dc:c + dc + 1].reshape(-1, 3) for f in frames)
+        return float(np.median(delta_E_2000(lab(np.clip(before, 1e-6, None)),
+                                            lab(np.clip(after, 1e-6, None)))))
+
+    start, step, count = instanced_chairs.BOOKS
+    return ([fade(x, y, 1, 1) for x, y, _rz in instanced_chairs.CHAIRS],
+            [fade(start + k * step, instanced_chairs.BOOK_Y + 0.02, 2, 0)
+             for k in range(count)])
+
+
+def _big_books(chairs):
+    """The books three times their size: their tops seen from above (the test's camera)."""
+    tree = chairs["books"].modifiers[0].node_group
+    place = next(n for n in tree.nodes if n.type == "INSTANCE_ON_POINTS")
+    place.inputs["Scale"].default_value = (3.0, 3.0, 3.0)
 
 
 def test_a_saved_file_renders_each_instance_aged_without_lightfade(chairs, tmp_path):
@@ -144,11 +193,16 @@ def test_a_saved_file_renders_each_instance_aged_without_lightfade(chairs, tmp_p
 
     scene = bpy.context.scene
     _top_camera(scene)
+    _big_books(chairs)
     api.bake(scene)
     copies = api.age_scene(scene, years=0)
-    assert [c.name for c in copies] == ["LF_Aged_Chair Fabric.Chair"]
-    fades = _fade_per_chair(tmp_path, "CYCLES")
-    assert min(fades[:2]) > 5 and max(fades[2:]) < 0.4 * min(fades[:2]), fades
+    assert sorted(c.name for c in copies) == ["LF_Aged_Book Cloth.Book",
+                                              "LF_Aged_Chair Fabric.Chair"]
+    chair_fades, book_fades = _fade_per_chair(tmp_path, "CYCLES")
+    assert min(chair_fades[:2]) > 5 and max(chair_fades[2:]) < 0.4 * min(chair_fades[:2]), \
+        chair_fades
+    assert min(book_fades[:4]) > 5 and max(book_fades[4:]) < 0.4 * min(book_fades[:4]), \
+        book_fades
 
 
 @pytest.mark.slow
@@ -158,11 +212,12 @@ def test_eevee_renders_each_instance_aged(chairs, tmp_path):
 
     scene = bpy.context.scene
     _top_camera(scene)
+    _big_books(chairs)
     api.bake(scene)
     api.age_scene(scene, years=0)
     eevee = "BLENDER_EEVEE_NEXT" if bpy.app.version < (5, 0, 0) else "BLENDER_EEVEE"
-    fades = _fade_per_chair(tmp_path, eevee)
-    assert min(fades[:2]) > 5 and max(fades[2:]) < 0.4 * min(fades[:2]), fades
+    for fades, n in zip(_fade_per_chair(tmp_path, eevee), (2, 4)):
+        assert min(fades[:n]) > 5 and max(fades[n:]) < 0.4 * min(fades[:n]), fades
 
 
 def test_reset_restores_the_file(chairs):
@@ -177,6 +232,8 @@ def test_reset_restores_the_file(chairs):
         return ({o.name: sorted(k for k in o.keys() if not k.startswith("lightfade"))
                  for o in bpy.data.objects},
                 [(s.link, s.material.name) for s in chair.material_slots],
+                [m.name for m in chairs["books"].modifiers], sorted(bpy.data.node_groups.keys()),
+                sorted(bpy.data.meshes.keys()),
                 sorted(i.name for i in bpy.data.images),
                 sorted(m.name for m in bpy.data.materials))
 
@@ -189,6 +246,11 @@ def test_reset_restores_the_file(chairs):
     assert chair.lightfade.instance_tiles == "" and not chair.lightfade.exposure_maps
 
 
+def _chair_copy(copies):
+    (copy,) = [c for c in copies if c.lightfade.aged_object.name == "Chair"]
+    return copy
+
+
 def test_a_moved_instance_is_stale_until_rebaked(chairs):
     """Moving an empty makes the aged copy stale ("bake exposure again"); a re-bake fixes it."""
     from lightfade_addon import api
@@ -196,7 +258,7 @@ def test_a_moved_instance_is_stale_until_rebaked(chairs):
 
     scene = bpy.context.scene
     api.bake(scene)
-    (copy,) = api.age_scene(scene, years=10)
+    copy = _chair_copy(api.age_scene(scene, years=10))
     assert stale_message(scene, copy) == ""
     chairs["empties"][2].location.x += 0.5
     bpy.context.view_layer.update()
@@ -213,12 +275,29 @@ def test_export_of_an_instanced_source_is_refused_in_one_line(chairs, tmp_path):
 
     scene = bpy.context.scene
     api.bake(scene)
-    (copy,) = api.age_scene(scene, years=10)
+    copy = _chair_copy(api.age_scene(scene, years=10))
     with pytest.raises(AgingError, match="aged per instance") as err:
         write_aged_file(scene, copy, 10.0, str(tmp_path / "x.png"))
     assert "\n" not in str(err.value)
     assert apply_aging(scene) == {}             # the live aging stays; nothing applied
     assert copy.lightfade.aged_image is None
+
+
+def test_a_moved_book_is_stale(chairs):
+    """A geometry-nodes instance that moves (the scatter changed) makes its copy stale."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging.apply import stale_message
+
+    scene = bpy.context.scene
+    api.bake(scene)
+    copies = api.age_scene(scene, years=10)
+    (copy,) = [c for c in copies if c.lightfade.aged_object.name == "Book"]
+    assert stale_message(scene, copy) == ""
+    tree = chairs["books"].modifiers[0].node_group
+    line = next(n for n in tree.nodes if n.bl_idname == "GeometryNodeMeshLine")
+    line.inputs["Count"].default_value = 9
+    bpy.context.view_layer.update()
+    assert "Books" in stale_message(scene, copy)
 
 
 def test_a_hidden_target_says_so_in_one_line(floor_scene):

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import bpy
 import numpy as np
 
+from . import instance_tiles
 from .common import TEMP_PREFIX
 
 #: Prefix of the per-source attribute (a custom property, or an instance attribute)
@@ -58,6 +59,12 @@ class Placement:
     kind: str                  # "OWN", "COLLECTION", "GEOMETRY"
     pid: tuple                 # persistent id within the instancer
     matrix: object             # mathutils.Matrix, world
+
+    @property
+    def index(self):
+        """A geometry-nodes instance's index in its instancer's instances (Blender's
+        persistent id: 0, then the index, then the levels inside it)."""
+        return self.pid[1]
 
     @property
     def key(self):
@@ -142,29 +149,32 @@ def tile_width(source_size, source_matrix, placements, max_size):
     return int(min(max(16, math.ceil(n / 8.0) * 8), max(16, int(max_size) // 8 * 8)))
 
 
-def geometry_note(plans):
-    """One line for the geometry-nodes placements this bake does not age per instance."""
-    names = sorted({p.instancer.name for plan in plans.values() for p in plan.placements
-                    if p.kind == "GEOMETRY"})
-    if not names:
+def shared_note(plan):
+    """Geometry-nodes placements of one source under one top-level instance (a collection
+    instanced by geometry nodes that holds the source twice) share that instance's
+    attribute: the first is baked, the others read its tile.  Drops them; one line."""
+    seen, kept, dropped = set(), [], 0
+    for p in plan.placements:
+        key = (p.instancer, p.index) if p.kind == "GEOMETRY" else id(p)
+        if key in seen:
+            dropped += 1
+            continue
+        seen.add(key)
+        kept.append(p)
+    plan.placements = kept
+    if not dropped:
         return ""
-    return ("Geometry-nodes instances of " + ", ".join(f"\"{n}\"" for n in names) +
-            " are not aged per instance in this version: make them real, or instance a "
-            "collection from an empty")
+    return (f"\"{plan.source.name}\" appears {dropped + 1}+ times inside one geometry-nodes "
+            "instance: its copies there share one tile (the first one's light)")
 
 
 def plan_tiles(plans, depsgraph, settings, note):
-    """Size each source's tiles and check its UV map; returns problem lines.  Drops the
-    placements this version does not bake (geometry-nodes instances, said once)."""
+    """Size each source's tiles and check its UV map; returns problem lines."""
     from .sizing import planned_map
 
-    note(geometry_note({p.source: p for p in plans}))
     problems = []
-    for plan in list(plans):
-        plan.placements = [p for p in plan.placements if p.kind != "GEOMETRY"]
-        if not plan.placements:
-            plans.remove(plan)
-            continue
+    for plan in plans:
+        note(shared_note(plan))
         size, uv = planned_map(plan.source, depsgraph, settings)
         if isinstance(uv, str):
             problems.append(uv)
@@ -249,17 +259,27 @@ def write_tiles(plan):
     """Store each placement's tile where the material reads it; forget older tiles."""
     name = tile_attribute(plan.source)
     clear_tiles(name)
+    scattered = {}                                # geometry-nodes instancer -> {index: k}
     for k, placement in enumerate(plan.placements):
         holder = placement.instancer if placement.instancer is not None else plan.source
         if placement.kind in ("OWN", "COLLECTION"):
             holder[name] = list(plan.rect(k))
+        else:
+            scattered.setdefault(holder, {})[placement.index] = k
+    for instancer, tiles in scattered.items():
+        rects = np.zeros((max(tiles) + 1, 3), dtype=np.float32)
+        for index, k in tiles.items():
+            rects[index] = plan.rect(k)
+        instance_tiles.write(instancer, name, rects)
     props = plan.source.lightfade
     props.instance_tiles = name
     props.instance_record = record(plan)
 
 
 def clear_tiles(name):
-    """Remove the tile property ``name`` from every object of the file."""
+    """Remove the tile property ``name`` from every object of the file, and the
+    geometry-nodes instances' tile data (:mod:`.instance_tiles`)."""
+    instance_tiles.remove({name})
     for obj in bpy.data.objects:
         if obj.library is None and name in obj.keys():
             del obj[name]
