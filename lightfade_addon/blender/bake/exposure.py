@@ -99,7 +99,10 @@ class ExposureBake:
         targets = [o for o in targets if o not in plans]
         problems += _instances.plan_tiles(self.instance_plans, depsgraph, self.settings,
                                           self._note)
-        problems += _instances.hidden_problems(targets, layer)
+        hidden = _instances.hidden_targets(targets, layer)
+        for msg in hidden.values():
+            self._warn(msg)
+        targets = [o for o in targets if o not in hidden]
         emitters = find_emitters(scene, layer)
         self._note(uncounted_note(uncounted_emissive(scene, layer)))
         if any(e.kind == "DAYLIGHT" for e in emitters) and _daylight.problem(scene):

@@ -190,16 +190,14 @@ def plan_tiles(plans, depsgraph, settings, note):
     return problems
 
 
-def hidden_problems(targets, view_layer):
-    """One line per target Cycles cannot bake where it stands: not in the view layer (its
-    collection excluded) or disabled in viewports."""
-    out = []
-    for obj in targets:
-        if view_layer.objects.get(obj.name) is not obj or obj.hide_viewport:
-            out.append(f"\"{obj.name}\" is hidden from the bake (its collection is excluded or "
-                       "it is disabled in viewports) and nothing instances it: show it, or "
-                       "bake it through its instances")
-    return out
+def hidden_targets(targets, view_layer):
+    """``{object: line}`` of the targets Cycles cannot bake where they stand (their
+    collection excluded, or disabled in viewports) and that nothing instances: skipped,
+    said in one line each."""
+    return {obj: f"Skipped \"{obj.name}\": hidden from the bake (its collection is excluded "
+            "or it is disabled in viewports) and nothing instances it; show it to bake it"
+            for obj in targets
+            if view_layer.objects.get(obj.name) is not obj or obj.hide_viewport}
 
 
 # ----------------------------------------------------------------------- baking
