@@ -139,9 +139,9 @@ class ExposureBake:
         return self
 
     def _step_sizes(self):
-        """Map widths per step: its objects' and one tile per instance placement."""
-        tiles = [p.tile for plan in self.instance_plans for p in [plan] * len(plan.placements)]
-        return [[self.sizes[o.name] for o in s.objects] + tiles for s in self.steps]
+        """Map widths per step: its objects' and each instanced source's atlas."""
+        atlases = [plan.size for plan in self.instance_plans]
+        return [[self.sizes[o.name] for o in s.objects] + atlases for s in self.steps]
 
     def _plan_glass(self, scene, depsgraph, layer):
         """Windows (a portal over each while the sky is baked) and the refracting glass
@@ -200,16 +200,16 @@ class ExposureBake:
 
     def _prepare(self):
         stand_ins = []
+        depsgraph = bpy.context.evaluated_depsgraph_get()
         for plan in self.instance_plans:      # baked in the place of each instance
-            for obj in _instances.add_stand_ins(self.state, self.scene, plan):
-                stand_ins.append(obj)
-                self.sizes[obj.name], self.uv_plans[obj.name] = plan.tile, plan.uv
+            obj = _instances.add_stand_in(self.state, self.scene, plan, depsgraph)
+            stand_ins.append(obj)
+            self.sizes[obj.name], self.uv_plans[obj.name] = plan.size, plan.uv
         for step in self.steps:
             step.objects = step.objects + stand_ins
         # an object's maps are finished together, after its last group's bake
         self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
         self.baked = self.targets + stand_ins
-        depsgraph = bpy.context.evaluated_depsgraph_get()
         depsgraph.update()
         for obj in self.targets:
             plan = self.uv_plans[obj.name]
@@ -221,10 +221,6 @@ class ExposureBake:
             if layers.active.name != plan.uv_name:  # Cycles bakes the active UV map
                 self.state.set(layers, "active_index", layers.find(plan.uv_name))
         self.state.configure(self.settings.samples, self.settings.margin, self.settings.seed)
-        for plan in self.instance_plans:      # stand-ins share their source's mesh
-            layers = plan.source.data.uv_layers
-            if layers.active.name != plan.uv.uv_name:
-                self.state.set(layers, "active_index", layers.find(plan.uv.uv_name))
         self.nodes = attach_targets(self.state, self.baked)
         self.geometry = {}
         if self.settings.denoise:
@@ -334,19 +330,13 @@ class ExposureBake:
         return result
 
     def _store_atlas(self, plan):
-        """Each light group's tiles of ``plan``'s placements packed into one atlas, stored
-        as the source's map; the tiles written where each instance reads them."""
-        source = plan.source
-        groups = {}
-        for obj in plan.stand_ins:
-            for name, (group, image) in self.maps.get(obj.name, {}).items():
-                groups.setdefault(name, (group, []))[1].append(_instances.read_pixels(image))
-        for name, (group, tiles) in groups.items():
-            atlas = self.state.new_image(f"{source.name}_{name}", plan.size)
-            atlas.pixels.foreach_set(_instances.pack_atlas(plan, tiles).ravel())
-            self.state.keep(atlas)
-            store_map(source, group, atlas, plan.uv.uv_name)
-        prune_maps(source, set(groups))
+        """The stand-in's maps (each light group's atlas) stored as the source's; the
+        tiles written where each instance reads them."""
+        baked = self.maps.get(plan.stand_in.name, {})
+        for group, image in baked.values():
+            self.state.keep(image)
+            store_map(plan.source, group, image, plan.uv.uv_name)
+        prune_maps(plan.source, set(baked))
         _instances.write_tiles(plan)
 
     def _merge(self, obj, group, parts):

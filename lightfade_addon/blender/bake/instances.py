@@ -29,7 +29,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import bpy
 import numpy as np
@@ -80,7 +80,7 @@ class SourcePlan:
     source: object
     placements: list
     tile: int = 16
-    stand_ins: list = field(default_factory=list)   # temporary objects, while baking
+    stand_in: object = None    # the temporary object baked in their place
 
     @property
     def grid(self):
@@ -203,45 +203,77 @@ def hidden_targets(targets, view_layer):
 # ----------------------------------------------------------------------- baking
 
 
-def add_stand_ins(state, scene, plan):
-    """A temporary object sharing ``plan.source``'s mesh at each placement (baked in its
-    place); the source hidden from every ray meanwhile (its instances with it).  All
-    removed and restored on exit of ``state``."""
+def _mesh_arrays(source, depsgraph, uv_name):
+    """The source's mesh as rendered (object space): vertices (V, 3), faces (list of
+    vertex tuples), UVs per loop (L, 2) in ``uv_name``, material index and smooth flag
+    per face."""
+    obj_eval = source.evaluated_get(depsgraph)
+    mesh = obj_eval.to_mesh()
+    try:
+        co = np.empty(len(mesh.vertices) * 3, dtype=np.float64)
+        mesh.vertices.foreach_get("co", co)
+        loops = np.empty(len(mesh.loops), dtype=np.int64)
+        mesh.loops.foreach_get("vertex_index", loops)
+        start = np.empty(len(mesh.polygons), dtype=np.int64)
+        total = np.empty(len(mesh.polygons), dtype=np.int64)
+        mesh.polygons.foreach_get("loop_start", start)
+        mesh.polygons.foreach_get("loop_total", total)
+        uv = np.empty(len(mesh.loops) * 2, dtype=np.float64)
+        mesh.uv_layers[uv_name].data.foreach_get("uv", uv)
+        material = np.empty(len(mesh.polygons), dtype=np.int64)
+        mesh.polygons.foreach_get("material_index", material)
+        smooth = np.empty(len(mesh.polygons), dtype=bool)
+        mesh.polygons.foreach_get("use_smooth", smooth)
+    finally:
+        obj_eval.to_mesh_clear()
+    faces = [tuple(loops[a:a + n]) for a, n in zip(start, total)]
+    return co.reshape(-1, 3), faces, uv.reshape(-1, 2), material, smooth
+
+
+def stand_in_mesh(plan, depsgraph):
+    """One mesh holding the source at every placement (world space), its UVs in
+    ``plan.uv.uv_name`` moved into each placement's tile: baked once, it *is* the atlas."""
+    uv_name = plan.uv.uv_name
+    co, faces, uv, material, smooth = _mesh_arrays(plan.source, depsgraph, uv_name)
+    n = len(plan.placements)
+    homogeneous = np.c_[co, np.ones(len(co))]
+    verts = np.concatenate([homogeneous @ np.array(p.matrix).T for p in plan.placements])[:, :3]
+    rects = np.array([plan.rect(k) for k in range(n)])
+    uvs = np.concatenate([uv * r[2] + r[:2] for r in rects])
+    mesh = bpy.data.meshes.new(f"{TEMP_PREFIX}{plan.source.name}")
+    mesh.from_pydata(verts.tolist(), [], [tuple(v + k * len(co) for v in f)
+                                         for k in range(n) for f in faces])
+    layer = mesh.uv_layers.new(name=uv_name)
+    layer.data.foreach_set("uv", uvs.astype(np.float32).ravel())
+    mesh.polygons.foreach_set("material_index", np.tile(material, n).astype(np.int32))
+    mesh.polygons.foreach_set("use_smooth", np.tile(smooth, n))
+    mesh.update()
+    for slot in plan.source.material_slots:
+        mesh.materials.append(slot.material)
+    return mesh
+
+
+def add_stand_in(state, scene, plan, depsgraph):
+    """A temporary object holding the source at every placement (:func:`stand_in_mesh`),
+    baked in their place; the source hidden from every ray meanwhile (its instances with
+    it).  Both undone on exit of ``state``."""
     source = plan.source
     flags = {f: getattr(source, f) for f in RAY_FLAGS if hasattr(source, f)}
     for flag in flags:
         state.set(source, flag, False)
-    plan.stand_ins = []
-    for k, placement in enumerate(plan.placements):
-        obj = source.copy()
-        obj.name = f"{TEMP_PREFIX}{source.name}#{k}"
-        obj.parent = None
-        for flag, value in flags.items():
-            setattr(obj, flag, value)
-        obj.hide_render = obj.hide_viewport = False
-        scene.collection.objects.link(obj)
-        obj.matrix_world = placement.matrix
-        state.push(lambda o=obj: bpy.data.objects.remove(o))
-        plan.stand_ins.append(obj)
-    return plan.stand_ins
+    mesh = stand_in_mesh(plan, depsgraph)
+    obj = bpy.data.objects.new(mesh.name, mesh)
+    for flag, value in flags.items():
+        setattr(obj, flag, value)
+    scene.collection.objects.link(obj)
 
+    def remove():
+        bpy.data.objects.remove(obj)
+        bpy.data.meshes.remove(mesh)
 
-def read_pixels(image):
-    w, h = image.size
-    px = np.empty(w * h * 4, dtype=np.float32)
-    image.pixels.foreach_get(px)
-    return px.reshape(h, w, 4)
-
-
-def pack_atlas(plan, tiles):
-    """``(size, size, 4)`` float32 atlas of ``tiles`` (``[(H, W, 4)]``, placement order)."""
-    n, g = plan.tile, plan.grid
-    atlas = np.zeros((g * n, g * n, 4), dtype=np.float32)
-    atlas[..., 3] = 1.0
-    for k, px in enumerate(tiles):
-        row, col = divmod(k, g)
-        atlas[row * n:(row + 1) * n, col * n:(col + 1) * n] = px
-    return atlas
+    state.push(remove)
+    plan.stand_in = obj
+    return obj
 
 
 # ----------------------------------------------------------------------- records
