@@ -312,3 +312,32 @@ def test_a_hidden_target_says_so_in_one_line(floor_scene):
     message = str(err.value)
     assert message.startswith("Nothing to bake: Skipped \"Floor\": hidden from the bake")
     assert "\n" not in message
+
+
+def test_info_and_dose_view_know_instances(chairs):
+    """``info`` lists each instanced source (placements by kind, atlas, stale instancers);
+    the per-material doses count every tile; the dose view shows on the instances (the
+    source's slots read each tile) and puts the source's slots back."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.daylight.doses import material_labels
+    from lightfade_addon.blender.daylight.view import clear_view, show_view
+    from lightfade_addon.pipeline.info import instances
+
+    scene = bpy.context.scene
+    chair = chairs["chair"]
+    api.bake(scene)
+    api.age_scene(scene, years=10)
+    rows = {r["object"]: r for r in instances(scene)}
+    assert (rows["Chair"]["collection"], rows["Book"]["geometry_nodes"]) == (4, 8)
+    assert rows["Chair"]["stale"] == [] and not rows["Book"]["itself"]
+    size = chair.lightfade.exposure_maps[0].image.size[0]
+    labels = material_labels(chair, size)
+    one = labels[:size // 2, :size // 2]                        # tile 0 of a 2 x 2 grid
+    assert np.count_nonzero(labels >= 0) == 4 * np.count_nonzero(one >= 0) > 0
+    slots = [(s.link, s.material.name) for s in chair.material_slots]
+    show_view(scene, chair, "DOSE")
+    (mat,) = {s.material for s in chair.material_slots}
+    assert any(n.type == "ATTRIBUTE" and n.attribute_name == chair.lightfade.instance_tiles
+               for n in mat.node_tree.nodes)
+    clear_view(scene)
+    assert [(s.link, s.material.name) for s in chair.material_slots] == slots

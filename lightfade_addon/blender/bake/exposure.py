@@ -99,10 +99,7 @@ class ExposureBake:
         targets = [o for o in targets if o not in plans]
         problems += _instances.plan_tiles(self.instance_plans, depsgraph, self.settings,
                                           self._note)
-        hidden = _instances.hidden_targets(targets, layer)
-        for msg in hidden.values():
-            self._warn(msg)
-        targets = [o for o in targets if o not in hidden]
+        targets = _instances.bakeable(targets, layer, self._warn)
         emitters = find_emitters(scene, layer)
         self._note(uncounted_note(uncounted_emissive(scene, layer)))
         if any(e.kind == "DAYLIGHT" for e in emitters) and _daylight.problem(scene):
@@ -323,21 +320,11 @@ class ExposureBake:
                 store_map(obj, group, image, self.uv_plans[obj.name].uv_name)
             prune_maps(obj, kept | set(baked))
             result[obj.name] = {item.name: item.image for item in obj.lightfade.exposure_maps}
-        for plan in self.instance_plans:
-            self._store_atlas(plan)
+        for plan in self.instance_plans:      # the stand-in's maps are the atlases
+            _instances.store_atlas(self.state, plan, self.maps.get(plan.stand_in.name, {}))
             result[plan.source.name] = {item.name: item.image
                                         for item in plan.source.lightfade.exposure_maps}
         return result
-
-    def _store_atlas(self, plan):
-        """The stand-in's maps (each light group's atlas) stored as the source's; the
-        tiles written where each instance reads them."""
-        baked = self.maps.get(plan.stand_in.name, {})
-        for group, image in baked.values():
-            self.state.keep(image)
-            store_map(plan.source, group, image, plan.uv.uv_name)
-        prune_maps(plan.source, set(baked))
-        _instances.write_tiles(plan)
 
     def _merge(self, obj, group, parts):
         """Sum existing maps into ``group``'s map (a regroup without a bake)."""

@@ -36,6 +36,8 @@ import numpy as np
 
 from . import instance_tiles
 from .common import TEMP_PREFIX
+from .maps import prune_maps, store_map
+from .sizing import planned_map
 
 #: Prefix of the per-source attribute (a custom property, or an instance attribute)
 #: holding a placement's tile ``(u0, v0, s)``.
@@ -170,8 +172,6 @@ def shared_note(plan):
 
 def plan_tiles(plans, depsgraph, settings, note):
     """Size each source's tiles and check its UV map; returns problem lines."""
-    from .sizing import planned_map
-
     problems = []
     for plan in plans:
         note(shared_note(plan))
@@ -190,14 +190,18 @@ def plan_tiles(plans, depsgraph, settings, note):
     return problems
 
 
-def hidden_targets(targets, view_layer):
-    """``{object: line}`` of the targets Cycles cannot bake where they stand (their
-    collection excluded, or disabled in viewports) and that nothing instances: skipped,
-    said in one line each."""
-    return {obj: f"Skipped \"{obj.name}\": hidden from the bake (its collection is excluded "
-            "or it is disabled in viewports) and nothing instances it; show it to bake it"
-            for obj in targets
-            if view_layer.objects.get(obj.name) is not obj or obj.hide_viewport}
+def bakeable(targets, view_layer, warn):
+    """The targets Cycles can bake where they stand; each other one (its collection
+    excluded, or disabled in viewports, and nothing instancing it) is skipped with one
+    line to ``warn``."""
+    out = []
+    for obj in targets:
+        if view_layer.objects.get(obj.name) is obj and not obj.hide_viewport:
+            out.append(obj)
+        else:
+            warn(f"Skipped \"{obj.name}\": hidden from the bake (its collection is excluded "
+                 "or it is disabled in viewports) and nothing instances it; show it to bake it")
+    return out
 
 
 # ----------------------------------------------------------------------- baking
@@ -276,6 +280,16 @@ def add_stand_in(state, scene, plan, depsgraph):
     return obj
 
 
+def store_atlas(state, plan, baked):
+    """The stand-in's maps (``{group name: (group, image)}``: each light group's atlas)
+    stored as the source's; the tiles written where each instance reads them."""
+    for group, image in baked.values():
+        state.keep(image)
+        store_map(plan.source, group, image, plan.uv.uv_name)
+    prune_maps(plan.source, set(baked))
+    write_tiles(plan)
+
+
 # ----------------------------------------------------------------------- records
 
 
@@ -330,12 +344,40 @@ def instance_sources(scene=None):
     return [o for o in bpy.data.objects if o.type == "MESH" and o.lightfade.instance_tiles]
 
 
+def baked_placements(source):
+    """``{key: rounded world matrix}`` of the placements baked into ``source``'s atlas."""
+    try:
+        return dict((k, m) for k, m in json.loads(source.lightfade.instance_record or "[]"))
+    except ValueError:
+        return {}
+
+
+def atlas_grid(source):
+    """``(placements, G)`` of ``source``'s atlas (``(0, 1)``: not aged per instance)."""
+    n = len(baked_placements(source)) if source.lightfade.instance_tiles else 0
+    return n, max(1, math.ceil(math.sqrt(n)))
+
+
+def tiled(source, tile_array, size, fill):
+    """``(size, size, ...)``: ``tile_array(width)`` (an array over the source's own UV
+    square at a tile's width) in each placement's tile of ``source``'s atlas, ``fill``
+    elsewhere; without instances, ``tile_array(size)``.  What the atlas's texels hold
+    of anything laid out in the source's UVs (its texture, its material slots)."""
+    n, g = atlas_grid(source)
+    if n == 0:
+        return tile_array(size)
+    width = size // g
+    one = tile_array(width)
+    out = np.full((size, size, *one.shape[2:]), fill, dtype=one.dtype)
+    for k in range(n):
+        row, col = divmod(k, g)
+        out[row * width:(row + 1) * width, col * width:(col + 1) * width] = one
+    return out
+
+
 def stale_placements(depsgraph, view_layer, source):
     """Keys of ``source``'s placements that moved, appeared or went since its bake."""
-    try:
-        baked = dict((k, m) for k, m in json.loads(source.lightfade.instance_record or "[]"))
-    except ValueError:
-        return ["(unreadable record)"]
+    baked = baked_placements(source)
     plan = find_placements(depsgraph, view_layer, ()).get(source)
     now = {} if plan is None else {p.key: [round(v, 4) for row in p.matrix for v in row]
                                    for p in plan.placements}
