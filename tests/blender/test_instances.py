@@ -341,3 +341,29 @@ def test_info_and_dose_view_know_instances(chairs):
                for n in mat.node_tree.nodes)
     clear_view(scene)
     assert [(s.link, s.material.name) for s in chair.material_slots] == slots
+
+
+def test_instances_of_a_linked_collection_are_skipped_in_one_line(blender, tmp_path):
+    """A chair collection linked from another .blend: the bake names it and the library
+    and bakes the rest; nothing of the library is made local."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.bake import LightFadeBakeError
+
+    instanced_chairs.build()
+    library = tmp_path / "chairs.blend"
+    bpy.data.libraries.write(str(library), {bpy.data.collections["Chair"]})
+    bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
+    with bpy.data.libraries.load(str(library), link=True) as (src, dst):
+        dst.collections = ["Chair"]
+    empty = bpy.data.objects.new("Linked Chair", None)
+    empty.instance_type, empty.instance_collection = "COLLECTION", dst.collections[0]
+    scene = bpy.context.scene
+    scene.collection.objects.link(empty)
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    scene.collection.objects.link(sun)
+    with pytest.raises(LightFadeBakeError) as err:
+        api.bake(scene)
+    message = str(err.value)
+    assert "Skipped \"Chair\" (1 instances): it is linked from" in message
+    assert "chairs.blend" in message and "\n" not in message
+    assert all(o.library is not None for o in bpy.data.objects if o.name == "Chair")

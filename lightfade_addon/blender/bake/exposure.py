@@ -83,14 +83,14 @@ class ExposureBake:
         scene, layer = self.scene, self.view_layer
         layer.update()  # objects linked by scripts join view_layer.objects on update
         depsgraph = bpy.context.evaluated_depsgraph_get()
-        plans = _instances.find_placements(depsgraph, layer, self.objects)
+        plans = _instances.find_placements(depsgraph, layer, self.objects, self._warn)
         instancers = {p.instancer for plan in plans.values() for p in plan.placements}
         objects = [o for o in (self.objects or find_targets(scene))
                    if o not in plans and o not in instancers]
         if not objects and not plans:
-            raise LightFadeBakeError(
-                "Nothing to bake: select mesh objects, or enable LightFade on their materials "
-                "(Material Properties > LightFade)")
+            raise LightFadeBakeError("Nothing to bake: " + ("; ".join(self.skipped) or (
+                "select mesh objects, or enable LightFade on their materials "
+                "(Material Properties > LightFade)")))
         targets, warnings, problems = validate_targets(objects + list(plans),
                                                        self.settings.unwrap)
         for msg in warnings:

@@ -110,10 +110,11 @@ def _own_rendered(obj, view_layer):
             and obj.visible_get(view_layer=view_layer))
 
 
-def find_placements(depsgraph, view_layer, chosen=()):
+def find_placements(depsgraph, view_layer, chosen=(), warn=None):
     """``{source: [Placement]}`` of every instanced mesh whose materials age, with its own
     placement first when it renders itself; ``chosen`` (objects) limits the search to
-    those sources and instancers."""
+    those sources and instancers.  A source linked from a library is left out, said in
+    one line to ``warn``."""
     found = {}
     chosen = set(chosen)
     for inst in depsgraph.object_instances:
@@ -131,11 +132,24 @@ def find_placements(depsgraph, view_layer, chosen=()):
             Placement(parent, kind, tuple(inst.persistent_id), inst.matrix_world.copy()))
     plans = {}
     for source, placements in found.items():
+        if source.library is not None or source.override_library is not None:
+            if warn is not None:
+                warn(linked_note(source, placements))
+            continue
         placements.sort(key=lambda p: p.key)
         if _own_rendered(source, view_layer):
             placements.insert(0, Placement(None, "OWN", (), source.matrix_world.copy()))
         plans[source] = SourcePlan(source, placements)
     return plans
+
+
+def linked_note(source, placements):
+    """One line for a source linked from a library: its instances are not aged."""
+    lib = source.library or source.override_library.reference.library
+    return (f"Skipped \"{source.name}\" ({len(placements)} instances): it is linked from "
+            f"\"{lib.filepath if lib else 'a library'}\", whose objects cannot hold an aged "
+            "material; make its collection local (Object > Relations > Make Local) to age "
+            "its instances")
 
 
 def _scale(matrix):
