@@ -367,3 +367,33 @@ def test_instances_of_a_linked_collection_are_skipped_in_one_line(blender, tmp_p
     assert "Skipped \"Chair\" (1 instances): it is linked from" in message
     assert "chairs.blend" in message and "\n" not in message
     assert all(o.library is not None for o in bpy.data.objects if o.name == "Chair")
+
+
+def test_instances_match_the_same_chairs_made_real(chairs):
+    """Each chair's tile holds what the same chair made real (a linked duplicate at the
+    instance's place) gets from the same bake: mean lux within 10 %."""
+    from lightfade_addon import api
+
+    scene = bpy.context.scene
+    chair = chairs["chair"]
+    api.bake(scene, objects=[chairs["empties"][0]])          # only the chairs' instances
+    tiles = _tiles(chair)
+    for empty in chairs["empties"]:
+        real = bpy.data.objects.new(f"Real {empty.name}", chair.data)
+        scene.collection.objects.link(real)
+        real.matrix_world = empty.matrix_world
+        empty.instance_type = "NONE"
+    bpy.context.view_layer.update()
+    result = api.bake(scene, objects=[o for o in scene.objects if o.name.startswith("Real")])
+    for empty in chairs["empties"]:
+        (image,) = result["maps"][f"Real {empty.name}"].values()
+        lux = _atlas_of(image)
+        real = float(lux[lux > 0].mean())
+        assert abs(tiles[empty.name] - real) < 0.1 * real, (empty.name, tiles, real)
+
+
+def _atlas_of(image):
+    w, h = image.size
+    px = np.empty(w * h * 4, dtype=np.float32)
+    image.pixels.foreach_get(px)
+    return px.reshape(h, w, 4)[..., 0]

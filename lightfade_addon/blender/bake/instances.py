@@ -113,7 +113,8 @@ def _own_rendered(obj, view_layer):
 def find_placements(depsgraph, view_layer, chosen=(), warn=None):
     """``{source: [Placement]}`` of every instanced mesh whose materials age, with its own
     placement first when it renders itself; ``chosen`` (objects) limits the search to
-    those sources and instancers.  A source linked from a library is left out, said in
+    the sources chosen or instanced by a chosen instancer (all their placements: an
+    atlas holds every placement of its source).  A source linked from a library is left out, said in
     one line to ``warn``."""
     found = {}
     chosen = set(chosen)
@@ -124,14 +125,14 @@ def find_placements(depsgraph, view_layer, chosen=(), warn=None):
         parent = inst.parent.original if inst.parent is not None else None
         if parent is None or not _ages(source):
             continue
-        if chosen and source not in chosen and parent not in chosen:
-            continue
         kind = "COLLECTION" if (parent.instance_type == "COLLECTION"
                                 and parent.instance_collection is not None) else "GEOMETRY"
         found.setdefault(source, []).append(
             Placement(parent, kind, tuple(inst.persistent_id), inst.matrix_world.copy()))
     plans = {}
     for source, placements in found.items():
+        if chosen and source not in chosen and not chosen & {p.instancer for p in placements}:
+            continue
         if source.library is not None or source.override_library is not None:
             if warn is not None:
                 warn(linked_note(source, placements))
