@@ -330,10 +330,12 @@ def test_info_and_dose_view_know_instances(chairs):
     rows = {r["object"]: r for r in instances(scene)}
     assert (rows["Chair"]["collection"], rows["Book"]["geometry_nodes"]) == (4, 8)
     assert rows["Chair"]["stale"] == [] and not rows["Book"]["itself"]
-    size = chair.lightfade.exposure_maps[0].image.size[0]
-    labels = material_labels(chair, size)
-    one = labels[:size // 2, :size // 2]                        # tile 0 of a 2 x 2 grid
-    assert np.count_nonzero(labels >= 0) == 4 * np.count_nonzero(one >= 0) > 0
+    book = chairs["book"]                       # 8 books: tiles 0-7 of a 3 x 3 grid
+    size = book.lightfade.exposure_maps[0].image.size[0]
+    labels, w = material_labels(book, size), size // 3
+    counts = [np.count_nonzero(labels[k // 3 * w:(k // 3 + 1) * w, k % 3 * w:(k % 3 + 1) * w]
+                               >= 0) for k in range(9)]
+    assert counts[:8] == [counts[0]] * 8 and counts[0] > 0 and counts[8] == 0, counts
     slots = [(s.link, s.material.name) for s in chair.material_slots]
     show_view(scene, chair, "DOSE")
     (mat,) = {s.material for s in chair.material_slots}
