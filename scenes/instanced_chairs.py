@@ -187,6 +187,46 @@ def add_camera(scene):
     return cam
 
 
+def top_view_fades(scene, years, out, size=600):
+    """ΔE00 (median over a few pixels) between 0 and ``years`` of each chair's seat and
+    each book's top, from an orthographic Cycles render from above (1 cm a pixel)."""
+    from lightfade_addon import api
+    from lightfade_addon.core.colour.colorimetry import (XYZ_to_Lab, delta_E_2000,
+                                                         linear_srgb_to_XYZ)
+
+    cam = bpy.data.objects.new("Top", bpy.data.cameras.new("Top"))
+    scene.collection.objects.link(cam)
+    cam.data.type, cam.data.ortho_scale = "ORTHO", 6.0
+    cam.location = (0.0, 0.0, 6.0)
+    camera, scene.camera = scene.camera, cam
+    settings = (scene.render.resolution_x, scene.render.resolution_y,
+                scene.render.image_settings.file_format)
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    frames = []
+    for y in (0.0, years):
+        api.set_years(scene, y)
+        scene.render.filepath = str(out / f"top_{y:g}.exr")
+        bpy.ops.render.render(write_still=True)
+        image = bpy.data.images.load(scene.render.filepath)
+        frames.append(np.array(image.pixels[:], dtype=np.float32).reshape(size, size, 4))
+        bpy.data.images.remove(image)
+    scene.camera = camera
+    bpy.data.objects.remove(cam)
+    (scene.render.resolution_x, scene.render.resolution_y,
+     scene.render.image_settings.file_format) = settings
+
+    def fade(x, y):
+        r, c = int((y + 3.0) / 6.0 * size), int((x + 3.0) / 6.0 * size)
+        lab = [XYZ_to_Lab(linear_srgb_to_XYZ(np.clip(f[r - 1:r + 2, c:c + 1, :3], 1e-6, None)
+                                             .reshape(-1, 3).astype(float))) for f in frames]
+        return float(np.median(delta_E_2000(*lab)))
+
+    start, step, count = BOOKS
+    return ([fade(x, y) for x, y, _ in CHAIRS],
+            [fade(start + k * step, BOOK_Y) for k in range(count)])
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", type=Path)
@@ -216,6 +256,12 @@ def main(argv=None):
         scene.render.filepath = str(args.out / f"{name}.png")
         bpy.ops.render.render(write_still=True)
         frames.append((scene.render.filepath, f"{years:g} years"))
+    chairs, books = top_view_fades(scene, args.years, args.out)
+    print(f"{args.years:g} years, dE00 of each seat (chairs 1-2 in the sun):",
+          " ".join(f"{d:.1f}" for d in chairs))
+    print(f"{args.years:g} years, dE00 of each book's top (x < 0 in the sun):",
+          " ".join(f"{d:.1f}" for d in books))
+    api.set_years(scene, args.years)
     bpy.ops.wm.save_as_mainfile(filepath=str(args.out / "chairs.blend"))
     sheet = contact_sheet([Image.open(p).convert("RGB") for p, _ in frames],
                           [label for _, label in frames],
