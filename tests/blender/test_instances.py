@@ -399,3 +399,25 @@ def _atlas_of(image):
     px = np.empty(w * h * 4, dtype=np.float32)
     image.pixels.foreach_get(px)
     return px.reshape(h, w, 4)[..., 0]
+
+
+def test_the_panel_lists_each_atlas_and_estimates_it(chairs):
+    """Before any bake the Exposure Bake panel lists each instanced source with its
+    placements and atlas, and its estimate counts the atlases' texels."""
+    from types import SimpleNamespace
+
+    from lightfade_addon.blender.bake import BakeSettings, ExposureBake
+    from test_panels import draw_all
+
+    scene = bpy.context.scene
+    labels = [t for kind, t in draw_all(SimpleNamespace(scene=scene, object=None,
+                                                        material=None)) if kind == "label"]
+    job = ExposureBake(scene, settings=BakeSettings.from_scene(scene)).plan()
+    sizes = {p.source.name: p.size for p in job.instance_plans}
+    assert f"Chair: 4 instances, {sizes['Chair']}² atlas" in labels
+    assert f"Book: 8 instances, {sizes['Book']}² atlas" in labels
+    estimate = job.estimate()
+    assert estimate.calls == 1                  # one Cycles call for both atlases
+    assert estimate.texels == sizes["Chair"] ** 2 + sizes["Book"] ** 2
+    assert any(t.startswith(f"{estimate.texel_samples / 1e6:,.1f} M texel·samples")
+               for t in labels), labels

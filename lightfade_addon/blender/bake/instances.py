@@ -82,6 +82,7 @@ class SourcePlan:
     source: object
     placements: list
     tile: int = 16
+    uv: object = None          # the UvPlan of the source (once planned)
     stand_in: object = None    # the temporary object baked in their place
 
     @property
@@ -153,6 +154,15 @@ def linked_note(source, placements):
             "its instances")
 
 
+def planned(depsgraph, view_layer, settings, chosen=()):
+    """``{source: SourcePlan}`` sized as the bake will size them, for the panel's list
+    and estimate (no diagnosis, nothing changed; sources that would refuse left out)."""
+    plans = find_placements(depsgraph, view_layer, chosen)
+    kept = list(plans.values())
+    plan_tiles(kept, depsgraph, settings, lambda note: None, diagnose=False)
+    return {p.source: p for p in kept if p.uv is not None}
+
+
 def _scale(matrix):
     """Linear scale of a world matrix: ``|det|^(1/3)``."""
     return abs(matrix.to_3x3().determinant()) ** (1.0 / 3.0)
@@ -185,12 +195,13 @@ def shared_note(plan):
             "instance: its copies there share one tile (the first one's light)")
 
 
-def plan_tiles(plans, depsgraph, settings, note):
-    """Size each source's tiles and check its UV map; returns problem lines."""
+def plan_tiles(plans, depsgraph, settings, note, diagnose=True):
+    """Size each source's tiles and check its UV map; returns problem lines.
+    ``diagnose``: as :func:`.sizing.planned_map` (False in a panel's draw)."""
     problems = []
     for plan in plans:
         note(shared_note(plan))
-        size, uv = planned_map(plan.source, depsgraph, settings)
+        size, uv = planned_map(plan.source, depsgraph, settings, diagnose)
         if isinstance(uv, str):
             problems.append(uv)
             continue
