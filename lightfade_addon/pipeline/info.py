@@ -272,6 +272,12 @@ def as_text(report):
     for e in rows:
         out.append(f"    {e['object']} / {e['material']} <- {e['group']}: max "
                    f"{e['max'] / 1e6:.3g} Mlx·h/year, mean {e['mean'] / 1e6:.3g} Mlx·h/year")
+    for e in report.get("instances") or []:
+        kinds = f"{e['collection']} collection, {e['geometry_nodes']} geometry-nodes" + (
+            ", itself" if e["itself"] else "")
+        moved = f"; stale: {', '.join(e['stale'])}" if e["stale"] else ""
+        out.append(f"  instances of {e['object']}: {e['instances']} ({kinds}), atlas "
+                   f"{'x'.join(map(str, e['atlas'] or []))}{moved}")
     out.append("  stale:" if report["stale"] else "  stale: nothing")
     out.extend(f"    {line}" for line in report["stale"])
     return "\n".join(out)

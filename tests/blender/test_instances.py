@@ -330,6 +330,10 @@ def test_info_and_dose_view_know_instances(chairs):
     rows = {r["object"]: r for r in instances(scene)}
     assert (rows["Chair"]["collection"], rows["Book"]["geometry_nodes"]) == (4, 8)
     assert rows["Chair"]["stale"] == [] and not rows["Book"]["itself"]
+    from lightfade_addon.pipeline.info import as_text, gather
+
+    text = as_text(gather(scene))
+    assert "  instances of Chair: 4 (4 collection, 0 geometry-nodes), atlas" in text
     book = chairs["book"]                       # 8 books: tiles 0-7 of a 3 x 3 grid
     size = book.lightfade.exposure_maps[0].image.size[0]
     labels, w = material_labels(book, size), size // 3

@@ -18,7 +18,9 @@ Modules, one job each:
 ``panes``    refracting window glass shown as a clear pane while the sky is baked
 ``exposure`` the bake loop (one Cycles call per group), :func:`bake_exposure`
 ``calibration`` tiny bakes that give the estimate its rate
-``instances`` collection instances baked where each stands, into one atlas per source
+``instances`` collection and geometry-nodes instances: placements, tiles of one atlas per source
+``stand_in`` the temporary mesh an instanced source is baked as (every placement, UVs in tiles)
+``instance_tiles`` the geometry-nodes modifier that gives each instance its tile
 ``maps``     storing maps; reading them back for aging; signature; removal
 ``panel``    the Exposure Bake panel's contents
 """

@@ -39,6 +39,7 @@ from .emitters import (
 )
 from .maps import members, prune_maps, store_map
 from .settings import BakeSettings
+from .stand_in import add_stand_in
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
 from .sizing import planned_map
@@ -199,7 +200,7 @@ class ExposureBake:
         stand_ins = []
         depsgraph = bpy.context.evaluated_depsgraph_get()
         for plan in self.instance_plans:      # baked in the place of each instance
-            obj = _instances.add_stand_in(self.state, self.scene, plan, depsgraph)
+            obj = add_stand_in(self.state, self.scene, plan, depsgraph)
             stand_ins.append(obj)
             self.sizes[obj.name], self.uv_plans[obj.name] = plan.size, plan.uv
         for step in self.steps:
