@@ -425,3 +425,24 @@ def test_the_panel_lists_each_atlas_and_estimates_it(chairs):
     assert estimate.texels == sizes["Chair"] ** 2 + sizes["Book"] ** 2
     assert any(t.startswith(f"{estimate.texel_samples / 1e6:,.1f} M texel·samples")
                for t in labels), labels
+
+
+def test_geometry_nodes_instances_of_a_collection(chairs):
+    """The line instancing the chair collection (Collection Info) instead of the book:
+    eight more chair placements, each with its own tile by its top-level instance."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.bake.instance_tiles import data_objects
+
+    tree = chairs["books"].modifiers[0].node_group
+    collection = tree.nodes.new("GeometryNodeCollectionInfo")
+    collection.inputs["Collection"].default_value = chairs["collection"]
+    place = next(n for n in tree.nodes if n.bl_idname == "GeometryNodeInstanceOnPoints")
+    tree.links.new(collection.outputs[0], place.inputs["Instance"])
+    chairs["cloth"].lightfade.enabled = False                # the book is no longer used
+    api.bake(bpy.context.scene)
+    (data,) = data_objects()
+    lux = _atlas(chairs["chair"])
+    line = [_tile_mean(lux, v.co) for v in data.data.vertices]
+    assert len(line) == 8 and len(_tiles(chairs["chair"])) == 4
+    # a chair is wider than a book: the fifth (x = 0.4) straddles the shadow's edge
+    assert min(line[:4]) > 3 * max(line[5:]) and line[5] < line[4] < line[3], line

@@ -42,6 +42,10 @@ from .sizing import planned_map
 #: holding a placement's tile ``(u0, v0, s)``.
 TILE_PREFIX = "lf_tile_"
 
+#: A persistent id's unused levels.
+_UNUSED = 2 ** 31 - 1
+
+
 def tile_attribute(source):
     """The attribute name holding ``source``'s tiles (stable: the source's name and library)."""
     lib = source.library.filepath if source.library is not None else ""
@@ -59,9 +63,11 @@ class Placement:
 
     @property
     def index(self):
-        """A geometry-nodes instance's index in its instancer's instances (Blender's
-        persistent id: 0, then the index, then the levels inside it)."""
-        return self.pid[1]
+        """A geometry-nodes instance's index in its instancer's top-level instances: the
+        last level of Blender's persistent id (innermost level first, unused ones at
+        the int32 maximum): ``(0, i)`` for an object, ``(k, 0, i)`` for object ``k`` of
+        an instanced collection."""
+        return [v for v in self.pid if v != _UNUSED][-1]
 
     @property
     def key(self):
