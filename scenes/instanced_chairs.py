@@ -20,8 +20,8 @@ from pathlib import Path
 import bpy
 import numpy as np
 
-#: Where the four chairs stand (x, y, rotation about z in degrees, facing the table): two at x < 0 in the
-#: sun, two at x > 0 behind the wall.
+#: Where the four chairs stand (x, y, rotation about z in degrees; they face the table):
+#: two at x < 0 in the sun, two at x > 0 behind the wall.
 CHAIRS = ((-1.6, -0.9, 90.0), (-1.6, 0.9, 90.0), (1.6, -0.9, -90.0), (1.6, 0.9, -90.0))
 #: The wall's centre and size (m): it shades x > 0.3 from a sun 40 degrees from the zenith
 #: (its shadow reaches y = 1.6).
