@@ -446,3 +446,28 @@ def test_geometry_nodes_instances_of_a_collection(chairs):
     assert len(line) == 8 and len(_tiles(chairs["chair"])) == 4
     # a chair is wider than a book: the fifth (x = 0.4) straddles the shadow's edge
     assert min(line[:4]) > 3 * max(line[5:]) and line[5] < line[4] < line[3], line
+
+
+def test_years_view_of_an_instanced_source_per_tile(chairs):
+    """The years-to-noticeable view of the chair reads each tile with its own light: the
+    chairs in the sun fade within fewer years than those in the shade."""
+    from conftest import COARSE_GRID
+    from lightfade_addon import api
+    from lightfade_addon.blender.daylight.view import view_values
+
+    scene = bpy.context.scene
+    chair = chairs["chair"]
+    api.bake(scene)
+    years, _scale, _note = view_values(scene, chair, "YEARS", chairs["material"],
+                                       settings=COARSE_GRID)
+    name = chair.lightfade.instance_tiles
+    n = years.shape[0] // 2
+
+    def median(empty):
+        u0, v0, _s = empty[name]
+        tile = years[int(v0 * 2) * n:(int(v0 * 2) + 1) * n, int(u0 * 2) * n:(int(u0 * 2) + 1) * n]
+        return float(np.median(tile[np.isfinite(tile)])) if np.isfinite(tile).any() else np.inf
+
+    sun = [median(e) for e in chairs["empties"][:2]]
+    shade = [median(e) for e in chairs["empties"][2:]]
+    assert max(sun) < min(shade), (sun, shade)
