@@ -9,7 +9,9 @@ Everything the aging side needs of the exposure bake goes through these function
   or regrouped emitters (what aged materials compare against to know they are stale);
 * :func:`remove_exposure` — exposure maps (and the UV map the bake made) removed;
 * :func:`exposure_shape` / :func:`exposure_uv` — size and UV map of an object's maps;
-* :func:`exposure_problem` — why an object cannot age for lack of exposure.
+* :func:`exposure_problem` — why an object cannot age for lack of exposure;
+* :func:`scene_objects` — the scene's objects and the sources aged through their
+  instances (which may stand in no scene themselves).
 
 The bake's own errors become :class:`AgingError` here, so that the aging operators catch
 one exception type.
@@ -88,3 +90,14 @@ def exposure_problem(scene, obj):
 
 exposure_signature = bake.exposure_signature
 remove_exposure = bake.remove_exposure
+#: Sources aged per instance (:mod:`.bake.instances`), and Reset's removal of their tiles.
+instance_sources = bake.instances.instance_sources
+remove_instance_data = bake.instances.remove_instance_data
+stale_placements = bake.instances.stale_placements
+
+
+def scene_objects(scene):
+    """``scene``'s objects, then the sources aged through their instances that stand in
+    no scene themselves (a list, in the file's order)."""
+    objects = list(scene.objects)
+    return objects + [o for o in instance_sources(scene) if not o.users_scene]

@@ -77,8 +77,6 @@ class VIEW3D_PT_lightfade_aging(LightFadeSidebarMixin, bpy.types.Panel):
                       icon="ERROR" if status.startswith("stale") else "MATERIAL")
         if len(copies) > 8:
             col.label(text=f"… and {len(copies) - 8} more")
-        layout.label(text="Collection and geometry-nodes instances are not aged per instance",
-                     icon="INFO")
 
 
 class VIEW3D_PT_lightfade_bake(LightFadeSidebarMixin, bpy.types.Panel):

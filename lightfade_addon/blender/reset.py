@@ -14,7 +14,7 @@ from .aging import data as agingdata, parts, runtime
 from .albedo import ALBEDO_PREFIX
 from .aging.copies import copies_of, remove_copy
 from .daylight.view import clear_view
-from .exposure import remove_exposure
+from .exposure import remove_exposure, remove_instance_data, scene_objects
 from .aging.grids import purge
 
 
@@ -40,14 +40,16 @@ def reset_scene(scene, exposure=False):
 
     With ``exposure=True`` the exposure maps (and the UV maps the bake made) go too.
     """
-    objects = set(scene.objects)
+    objects = scene_objects(scene)
     copies = [c for c in copies_of() if c.lightfade.aged_object in objects
               or c.lightfade.aged_object is None]
     for copy in copies:
         remove_aged(copy)
     clear_view(scene)                            # dose views show what Reset removes
     if exposure:
-        remove_exposure(scene, [o for o in scene.objects if o.type == "MESH"])
+        meshes = [o for o in objects if o.type == "MESH"]
+        remove_instance_data(meshes)             # each instancer's tile property too
+        remove_exposure(scene, meshes)
     agingdata.purge_tables()
     purge(scene, set())
     props = scene.lightfade

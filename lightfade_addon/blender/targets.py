@@ -8,6 +8,7 @@ every object and material and what to do.
 from __future__ import annotations
 
 from .aging.copies import original
+from .exposure import scene_objects
 from .aging.parts import part_problems
 from .aging.runtime import material_recipe
 from .source import material_plan
@@ -17,6 +18,16 @@ def _materials(obj):
     return [original(s.material) for s in obj.material_slots if s.material is not None]
 
 
+def _instanced(selected):
+    """Sources aged per instance that the selected empties instance."""
+    out = []
+    for o in selected:
+        if o.instance_type == "COLLECTION" and o.instance_collection is not None:
+            out += [s for s in o.instance_collection.all_objects
+                    if s.type == "MESH" and s.lightfade.instance_tiles and s not in out]
+    return out
+
+
 def targets(scene, selected=()):
     """``[(object, material)]`` to age; materials are the user's (never aged copies).
 
@@ -24,8 +35,8 @@ def targets(scene, selected=()):
     them is ticked, all their materials (zero configuration: the default recipe).
     With nothing selected: the ticked materials of every mesh in the scene.
     """
-    chosen = [o for o in selected if o.type == "MESH"]
-    objects = chosen or [o for o in scene.objects if o.type == "MESH"]
+    chosen = [o for o in selected if o.type == "MESH"] + _instanced(selected)
+    objects = chosen or [o for o in scene_objects(scene) if o.type == "MESH"]
     ticked = any(m.lightfade.enabled for o in objects for m in _materials(o))
     pairs = []
     for obj in objects:

@@ -22,6 +22,7 @@ from ..blender.bake import (
 )
 from ..blender.bake import daylight as _daylight_bake
 from ..blender.bake.maps import map_key
+from ..blender.bake.instances import baked_placements, stale_placements
 from ..blender.daylight import place as _place
 from ..blender.daylight.doses import material_doses
 from ..blender.aging.parts import describe
@@ -151,6 +152,28 @@ def material_annual_doses(scene):
     return entries
 
 
+def instances(scene):
+    """Per source aged through its instances: how many placements its atlas holds (by
+    kind: collection instances, geometry-nodes instances, the source itself), the atlas
+    size, and the instancers whose instances moved, appeared or went since the bake."""
+    entries = []
+    layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    for obj in target_objects(scene):
+        if not obj.lightfade.instance_tiles:
+            continue
+        kinds = [key.split("|")[1] for key in baked_placements(obj)]
+        maps = [m.image for m in obj.lightfade.exposure_maps if m.image is not None]
+        stale_keys = stale_placements(depsgraph, layer, obj)
+        entries.append({
+            "object": obj.name, "instances": len(kinds),
+            "collection": kinds.count("COLLECTION"), "geometry_nodes": kinds.count("GEOMETRY"),
+            "itself": "OWN" in kinds, "atlas": list(maps[0].size) if maps else None,
+            "stale": sorted({k.split("|")[0] or obj.name for k in stale_keys}),
+        })
+    return entries
+
+
 def stale(scene):
     """What no longer matches the scene: missing maps, maps of gone emitters, aged
     materials whose exposure, schedule or recipe changed since Age."""
@@ -195,6 +218,7 @@ SECTIONS = (
     ("daylight", daylight),
     ("doses", doses),
     ("material_doses", material_annual_doses),
+    ("instances", instances),
     ("stale", stale),
 )
 
@@ -248,6 +272,12 @@ def as_text(report):
     for e in rows:
         out.append(f"    {e['object']} / {e['material']} <- {e['group']}: max "
                    f"{e['max'] / 1e6:.3g} Mlx·h/year, mean {e['mean'] / 1e6:.3g} Mlx·h/year")
+    for e in report.get("instances") or []:
+        kinds = f"{e['collection']} collection, {e['geometry_nodes']} geometry-nodes" + (
+            ", itself" if e["itself"] else "")
+        moved = f"; stale: {', '.join(e['stale'])}" if e["stale"] else ""
+        out.append(f"  instances of {e['object']}: {e['instances']} ({kinds}), atlas "
+                   f"{'x'.join(map(str, e['atlas'] or []))}{moved}")
     out.append("  stale:" if report["stale"] else "  stale: nothing")
     out.extend(f"    {line}" for line in report["stale"])
     return "\n".join(out)

@@ -25,7 +25,8 @@ from ..albedo import albedo_image, bake_albedos
 from ..bake.emitters import remembered
 from .copies import APPLIED_NAME, GROUP_NODE, copies_of, walk
 from ..errors import AgingError, check_years
-from ..exposure import exposure_shape, exposure_signature, exposure_uv
+from ..exposure import exposure_shape, exposure_signature, exposure_uv, scene_objects
+from .instances import INSTANCES_STALE, apply_problem, instances_stale
 from ..pixels import write_rgba
 from ..source import find_colour_socket
 from .years import get_years, write_years
@@ -40,8 +41,8 @@ GROUP_PREFIX = "LF_Aging_"
 
 
 def aged_copies(scene):
-    """Aged copies whose object is in ``scene``."""
-    objects = set(scene.objects)
+    """Aged copies whose object is in ``scene`` (or is aged through instances in it)."""
+    objects = scene_objects(scene)
     return [c for c in copies_of() if c.lightfade.aged_object in objects]
 
 
@@ -58,6 +59,9 @@ def stale_reason(scene, copy):
         return "the material's parts changed since Age"
     if props.signature != runtime.signature(scene, copy):
         return "exposure maps, schedule or recipe changed since Age"
+    moved = instances_stale(scene, props.aged_object)
+    if moved:
+        return moved
     if props.aged_image is not None and props.aged_image.get(_APPLIED_SIGNATURE) != \
             exposure_signature(scene, props.aged_object):
         return "applied images predate the last exposure bake"
@@ -71,6 +75,8 @@ def stale_message(scene, copy):
         return ""
     if why.startswith("applied"):
         return f"stale: {why}: press Apply Aging"
+    if why.startswith(INSTANCES_STALE):
+        return f"stale: {why}: bake exposure again"
     return f"stale: {why}: {REFRESH}"
 
 
@@ -216,6 +222,9 @@ def apply_copy(scene, copy, years):
 def write_aged_file(scene, copy, years, path):
     """Write ``copy``'s aged pixels at ``years`` as an image file: ``.png`` (8-bit sRGB)
     or ``.exr`` (float, linear Rec.709), through Blender's own image writer."""
+    problem = apply_problem(copy)
+    if problem is not None:
+        raise AgingError(problem)
     rgba = aged_pixels(scene, copy, years)
     H, W = rgba.shape[:2]
     exr = path.lower().endswith(".exr")
@@ -245,7 +254,14 @@ def apply_aging(scene, years=None):
     """
     years = check_years(get_years(scene) if years is None else years)
     update_scene(scene, years)
-    return {copy.name: apply_copy(scene, copy, years) for copy in aged_copies(scene)}
+    out = {}
+    for copy in aged_copies(scene):
+        problem = apply_problem(copy)        # instances: one line, the live aging stays
+        if problem is not None:
+            print(f"LightFade: {problem}")
+            continue
+        out[copy.name] = apply_copy(scene, copy, years)
+    return out
 
 
 def live_aging(scene):

@@ -75,6 +75,7 @@ from ...core.colour.colorimetry import XYZ_to_linear_srgb, linear_srgb_to_XYZ
 from ...core.colour.gamut import LUMA
 from .years import YEARS_PROP
 from .graph import Graph, Sock
+from .instances import tile_uv
 
 #: Bumped whenever the group's nodes change: an older group is rebuilt (Age).
 GROUP_VERSION = 7
@@ -105,6 +106,7 @@ class GroupSpec:
     power: float
     unmix_y: int             # first texel row of the unmixing's tiles
     per_row: int             # unmixing tiles per row
+    tile: str = ""           # instances: the attribute holding each one's atlas tile
 
     @property
     def P(self):
@@ -374,6 +376,8 @@ def build(tree, spec):
     colour = Sock(g, gin.outputs[0], 0)
     g.stage = "uv"
     uv = g.out(g.node("ShaderNodeUVMap", uv_map=spec.uv_map, depth=0), "UV")
+    if spec.tile:                       # aged per instance: its own tile of the atlas
+        uv = tile_uv(g, uv, spec.tile)
     rates = _rates(g, spec, uv)
     g.stage = "eval"
     node = g.node("ShaderNodeGroup", [colour, *rates], node_tree=eval_group(spec))

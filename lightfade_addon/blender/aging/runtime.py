@@ -97,7 +97,8 @@ def signature(scene, copy):
         maps = [f"{image.name}:{light}" for image, light in exposure_images(scene, obj)]
     except AgingError as err:
         maps = [str(err)]
-    parts = [obj.lightfade.uv_map, *maps, s.recipe, s.sensitivity_mode, str(s.blue_wool),
+    parts = [obj.lightfade.uv_map, obj.lightfade.instance_tiles, *maps, s.recipe,
+             s.sensitivity_mode, str(s.blue_wool),
              s.fastness, repr(s.beta), repr(material_prior(source)), props.path, props.uv_map,
              scene.lightfade.aged_rays]
     if len(s.parts):                                  # several recipes by mask (.parts)
@@ -113,7 +114,7 @@ def group_version(copy):
     return 0
 
 
-def group_spec(uv_map, inputs, table_image):
+def group_spec(uv_map, inputs, table_image, tile=""):
     """The :class:`.group.GroupSpec` of a table image and exposure inputs."""
     info = agingdata.table_info(table_image)
     layout = atlas_layout(info)
@@ -123,7 +124,7 @@ def group_spec(uv_map, inputs, table_image):
                      gamma=float(info["gamma"]), per_decade=float(info["per_decade"]),
                      low_dose=float(info["low_dose"]), history=bool(info["history"]),
                      unmix_side=int(info["unmix_side"]), power=float(info["power"]),
-                     unmix_y=layout.unmix_y, per_row=layout.per_row)
+                     unmix_y=layout.unmix_y, per_row=layout.per_row, tile=tile)
 
 
 def aging_group(scene, obj, recipe, prior=None, name="LF_Aging", progress=None):
@@ -135,7 +136,8 @@ def aging_group(scene, obj, recipe, prior=None, name="LF_Aging", progress=None):
         image, table = agingdata.ensure_table(recipe, keys, prior, progress, restore_kw)
     except ValueError as err:
         raise AgingError(f"Object '{obj.name}', recipe '{recipe.name}': {err}") from None
-    return new_group(name, group_spec(obj.lightfade.uv_map, inputs, image)), image, table
+    spec = group_spec(obj.lightfade.uv_map, inputs, image, obj.lightfade.instance_tiles)
+    return new_group(name, spec), image, table
 
 
 def insert_aging(scene, copy, colour, recipe, prior=None, progress=None):

@@ -24,6 +24,9 @@ Modules, one job each:
 ``exposure`` the bake loop (Cycles calls per group and pass): :class:`ExposureBake`
 ``run``      :func:`bake_exposure`, a whole bake in one call
 ``calibration`` tiny bakes that give the estimate its rate
+``instances`` collection and geometry-nodes instances: placements, tiles of one atlas per source
+``stand_in`` the temporary mesh an instanced source is baked as (every placement, UVs in tiles)
+``instance_tiles`` the geometry-nodes modifier that gives each instance its tile
 ``maps``     storing maps; reading them back for aging; signature; removal
 ``panel``    the Exposure Bake panel's contents
 """
@@ -38,6 +41,7 @@ from .common import (
 )
 from .emitters import Emitter, LightGroup, find_emitters, find_groups, group_emitters
 from .calibration import calibrate
+from . import instances
 from .exposure import ExposureBake
 from .run import bake_exposure
 from .settings import BakeSettings

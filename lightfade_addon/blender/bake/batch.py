@@ -384,8 +384,17 @@ class Batches:
         """The :class:`Atlas` baked as the temporary object ``key``; None for an object."""
         return next((a for a in self.atlases if self.objects[a.name].name == key), None)
 
-    def per_object(self, by_key, baked):
-        """``{(key, group): value}`` as ``{(object name, group): value}``: an atlas's value
-        for each object baked in it (``baked[key][group]``: ``(group, image, names)``)."""
-        return {(name, group): value for (key, group), value in by_key.items()
-                for name in baked[key][group][2]}
+    def regions(self):
+        """``{temporary object name: {object name: (rows, columns)}}``: each object's
+        cell of each atlas, as slices (:attr:`.passes.Passes.regions`)."""
+        return {self.objects[atlas.name].name: {
+            name: (slice(y, y + n), slice(x, x + n)) for name, (x, y, n) in atlas.cells.items()}
+            for atlas in self.atlases}
+
+    def per_object(self, by_key, baked, by_region=None):
+        """``{(key, group): value}`` as ``{(object name, group): value}``: each object's
+        own value in ``by_region`` (its cell of an atlas), else its key's
+        (``baked[key][group]``: ``(group, image, names)``)."""
+        by_region = by_region or {}
+        return {(name, group): by_region.get((name, group), value)
+                for (key, group), value in by_key.items() for name in baked[key][group][2]}

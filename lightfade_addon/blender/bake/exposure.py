@@ -18,12 +18,12 @@ import time
 from dataclasses import dataclass
 
 import bpy
-import numpy as np
 
 from . import adaptive
 from . import batch as _batch
 from . import daylight as _daylight
 from . import geometry as _geometry
+from . import instances as _instances
 from . import panes as _panes
 from . import portals as _portals
 from . import sizing
@@ -36,9 +36,10 @@ from .emitters import (
     uncounted_emissive,
     uncounted_note,
 )
-from .maps import members, prune_maps, store_map
+from .maps import members, prune_maps, store_map, store_sum
 from .passes import Passes
 from .settings import BakeSettings
+from .stand_in import add_stand_in
 from .state import BakeState
 from .targets import attach_targets, check_bake_result, find_targets, validate_targets
 from .uvmaps import make_unique_uv, texel_geometry
@@ -90,14 +91,24 @@ class ExposureBake:
         """Every check that can refuse, before any Cycles work; all problems at once."""
         scene, layer = self.scene, self.view_layer
         layer.update()  # objects linked by scripts join view_layer.objects on update
-        objects = self.objects or find_targets(scene)
-        if not objects:
-            raise LightFadeBakeError(
-                "Nothing to bake: select mesh objects, or enable LightFade on their materials "
-                "(Material Properties > LightFade)")
-        targets, warnings, problems = validate_targets(objects, self.settings.unwrap)
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        plans = _instances.find_placements(depsgraph, layer, self.objects, self._warn)
+        instancers = {p.instancer for plan in plans.values() for p in plan.placements}
+        objects = [o for o in (self.objects or find_targets(scene))
+                   if o not in plans and o not in instancers]
+        if not objects and not plans:
+            raise LightFadeBakeError("Nothing to bake: " + ("; ".join(self.skipped) or (
+                "select mesh objects, or enable LightFade on their materials "
+                "(Material Properties > LightFade)")))
+        targets, warnings, problems = validate_targets(objects + list(plans),
+                                                       self.settings.unwrap)
         for msg in warnings:
             self._warn(msg)
+        self.instance_plans = [plans[o] for o in targets if o in plans]
+        targets = [o for o in targets if o not in plans]
+        problems += _instances.plan_tiles(self.instance_plans, depsgraph, self.settings,
+                                          self._note)
+        targets = _instances.bakeable(targets, layer, self._warn)
         emitters = find_emitters(scene, layer)
         self._note(uncounted_note(uncounted_emissive(scene, layer)))
         if any(e.kind == "DAYLIGHT" for e in emitters) and _daylight.problem(scene):
@@ -107,7 +118,6 @@ class ExposureBake:
                 "No emitters in the scene: add a lamp, count an emissive mesh (Count Emission as "
                 "Light), or give the world a "
                 "spectrum (Sky Schedule), and keep their LightFade 'Include in Aging' on")
-        depsgraph = bpy.context.evaluated_depsgraph_get()
         self.sizes, self.uv_plans = {}, {}
         for obj in targets:
             size, plan = _geometry.checked_plan(obj, depsgraph, self.settings)
@@ -118,7 +128,7 @@ class ExposureBake:
                 self.sizes[obj.name] = size
         if problems:
             raise LightFadeBakeError("\n".join(problems))
-        if not targets:
+        if not targets and not self.instance_plans:
             raise LightFadeBakeError("Nothing to bake: " + "; ".join(self.skipped))
         self.targets = targets
         self.emitters = emitters
@@ -130,8 +140,8 @@ class ExposureBake:
                 continue
             names = set(group.member_names)
             objs = [o for o in targets if o.name not in names and not self._reusable(o, group)]
-            for index in range(self.settings.first_passes if objs else 0):
-                self.steps.append(_Step(group, objs, index))
+            for index in range(self.settings.first_passes if objs or self.instance_plans else 0):
+                self.steps.append(_Step(group, objs, index))   # instances: in every group
         self.work = []
         self._planned(self.steps)
         # small objects baked together, one temporary mesh and atlas per batch
@@ -143,8 +153,14 @@ class ExposureBake:
         """Add ``steps`` to the work; an object's passes are finished together, after its
         last step so far."""
         self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
-        self.work += [sum(self.sizes[o.name] ** 2 for o in s.objects) * self._samples(s)
-                      for s in steps]
+        self.work += [sum(n ** 2 for n in sizes) * self._samples(s)
+                      for s, sizes in zip(steps, self._step_sizes(steps))]
+
+    def _step_sizes(self, steps):
+        """Map widths per step: its objects' and each instanced source's atlas (whose
+        stand-in joins the steps when the bake starts)."""
+        return [[self.sizes[o.name] for o in s.objects] + [
+            p.size for p in self.instance_plans if p.stand_in not in s.objects] for s in steps]
 
     def _samples(self, step):
         return step.samples or self.settings.samples_per_pass()
@@ -185,7 +201,7 @@ class ExposureBake:
 
     def estimate(self):
         """:class:`.sizing.Estimate` of the planned bake (a range for an adaptive one)."""
-        sizes = [[self.sizes[o.name] for o in s.objects] for s in self.steps if s.index == 0]
+        sizes = self._step_sizes([s for s in self.steps if s.index == 0])
         return sizing.estimate_for(self.scene, sizes, self.settings)
 
     def _warn(self, msg):
@@ -205,7 +221,17 @@ class ExposureBake:
         return self
 
     def _prepare(self):
+        stand_ins = []
         depsgraph = bpy.context.evaluated_depsgraph_get()
+        for plan in self.instance_plans:      # baked in the place of each instance
+            obj = add_stand_in(self.state, self.scene, plan, depsgraph)
+            stand_ins.append(obj)
+            self.sizes[obj.name], self.uv_plans[obj.name] = plan.size, plan.uv
+        for step in self.steps:
+            step.objects = step.objects + stand_ins
+        self.last_step = {o.name: i for i, s in enumerate(self.steps) for o in s.objects}
+        self.bakeables = self.targets + stand_ins
+        depsgraph.update()
         for obj in self.targets:
             plan = self.uv_plans[obj.name]
             if plan.make:
@@ -220,7 +246,7 @@ class ExposureBake:
                              self.settings.seed)
         depsgraph = self.batches.stand_in(self.state, self.targets, self.uv_plans, depsgraph,
                                           self.scene, self.view_layer)
-        alone, atlases = self.batches.split(self.targets)
+        alone, atlases = self.batches.split(self.bakeables)
         self.nodes = attach_targets(self.state, alone + [obj for _, obj in atlases])
         self.geometry = {}
         if self.settings.denoise or self.settings.adaptive:
@@ -229,7 +255,9 @@ class ExposureBake:
                     obj, depsgraph, self.uv_plans[obj.name].uv_name, self.sizes[obj.name],
                     self.settings.margin)
             self.geometry.update(self.batches.geometry(depsgraph, self.settings.margin))
-        self.passes = Passes(self.settings, self.geometry)
+        regions = self.batches.regions()
+        regions.update({p.stand_in.name: p.regions() for p in self.instance_plans})
+        self.passes = Passes(self.settings, self.geometry, regions)
         self.done = 0
         self.start = time.perf_counter()
 
@@ -296,10 +324,10 @@ class ExposureBake:
         True if any were planned."""
         if not self.settings.adaptive:
             return False
-        baked = [obj for _, obj, _, _ in self.batches.units(self.targets, self.sizes)]
+        baked = [obj for _, obj, _, _ in self.batches.units(self.bakeables, self.sizes)]
         more = self.passes.wanted(baked)    # measures every map, also when late
         late = 0 < self.settings.max_seconds < time.perf_counter() - self.start
-        by_name = {o.name: o for o in self.targets}
+        by_name = {o.name: o for o in self.bakeables}
         steps = [] if late else [
             _Step(g, [by_name[n] for obj in objs for n in self.baked[obj.name][name][2]],
                   index, extra)
@@ -323,7 +351,8 @@ class ExposureBake:
                 for name, maps in _batch.cut(self.state, self.scene, atlas, entries).items():
                     self.maps.setdefault(name, {}).update(maps)
         if self.settings.adaptive:
-            self.noise = self.batches.per_object(self.passes.noise, self.baked)
+            self.noise = self.batches.per_object(self.passes.noise, self.baked,
+                                                 self.passes.region_noise)
             self._note(adaptive.noise_note(self.noise, self.settings))
 
     def _report_progress(self, step):
@@ -348,7 +377,8 @@ class ExposureBake:
             for group in self.groups:
                 parts = self._reusable(obj, group)
                 if parts and [p.name for p in parts] != [group.name]:
-                    self._merge(obj, group, parts)
+                    store_sum(self.state, obj, group, parts,
+                              self.uv_plans[obj.name].uv_name)
             baked = self.maps.get(obj.name, {})
             for name, (group, image) in baked.items():
                 self.state.keep(image)
@@ -357,22 +387,8 @@ class ExposureBake:
                                    self.batches.key(obj.name), group.name)
             prune_maps(obj, kept | set(baked))
             result[obj.name] = {item.name: item.image for item in obj.lightfade.exposure_maps}
+        for plan in self.instance_plans:      # the stand-in's maps are the atlases
+            _instances.store_atlas(self.state, plan, self.maps.get(plan.stand_in.name, {}))
+            result[plan.source.name] = {item.name: item.image
+                                        for item in plan.source.lightfade.exposure_maps}
         return result
-
-    def _merge(self, obj, group, parts):
-        """Sum existing maps into ``group``'s map (a regroup without a bake)."""
-        images = [p.image for p in parts]
-        w, h = images[0].size
-        total = np.zeros(w * h * 4, dtype=np.float32)
-        buf = np.empty_like(total)
-        for image in images:
-            if tuple(image.size) != (w, h):
-                raise LightFadeBakeError(f"\"{obj.name}\": maps of different sizes cannot be "
-                                         "regrouped: bake exposure again")
-            image.pixels.foreach_get(buf)
-            total += buf
-        total[3::4] = 1.0
-        merged = self.state.new_image(f"{obj.name}_{group.name}", w, h)
-        merged.pixels.foreach_set(total)
-        self.state.keep(merged)
-        store_map(obj, group, merged, obj.lightfade.uv_map or self.uv_plans[obj.name].uv_name)

@@ -210,3 +210,23 @@ def maps_lit_by(obj, emitter_name):
     """``obj``'s exposure maps whose group contains ``emitter_name``."""
     return [item for item in obj.lightfade.exposure_maps
             if any(name == emitter_name for name, _ in members(item))]
+
+
+def store_sum(state, obj, group, parts, uv_name):
+    """Sum existing maps ``parts`` into ``group``'s map of ``obj`` (a regroup without a
+    bake; ``uv_name``: the UV map when the object has none recorded)."""
+    images = [p.image for p in parts]
+    w, h = images[0].size
+    total = np.zeros(w * h * 4, dtype=np.float32)
+    buf = np.empty_like(total)
+    for image in images:
+        if tuple(image.size) != (w, h):
+            raise LightFadeBakeError(f"\"{obj.name}\": maps of different sizes cannot be "
+                                     "regrouped: bake exposure again")
+        image.pixels.foreach_get(buf)
+        total += buf
+    total[3::4] = 1.0
+    merged = state.new_image(f"{obj.name}_{group.name}", w, h)
+    merged.pixels.foreach_set(total)
+    state.keep(merged)
+    store_map(obj, group, merged, obj.lightfade.uv_map or uv_name)

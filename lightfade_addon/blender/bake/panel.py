@@ -16,6 +16,7 @@ from .emitters import (
     world_counts,
 )
 from .settings import BakeSettings
+from . import instances
 from .sizing import planned_map
 from .presets import PRESETS
 from .targets import find_targets, validate_targets
@@ -121,16 +122,22 @@ def draw_bake_panel(layout, context):
     groups = _draw_groups(layout, scene, emitters)
     settings = BakeSettings.from_scene(scene)
     selected = list(getattr(context, "selected_objects", None) or []) or find_targets(scene)
-    targets, _, _ = validate_targets(selected, True)
-    if targets and groups:
-        depsgraph = bpy.context.evaluated_depsgraph_get()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    plans = instances.planned(depsgraph, view_layer, settings,
+                              getattr(context, "selected_objects", None) or ())
+    targets, _, _ = validate_targets([o for o in selected if o not in plans], True)
+    if (targets or plans) and groups:
         sizes = {o.name: _size(o, depsgraph, settings) for o in targets}
         box = layout.box()
         for obj in targets[:LIST_LIMIT]:
             box.label(text=f"{obj.name}: {sizes[obj.name]}²", icon="OBJECT_DATA")
         if len(targets) > LIST_LIMIT:
             box.label(text=f"… and {len(targets) - LIST_LIMIT} more")
-        per_group = [[sizes[o.name] for o in targets if o.name not in g.member_names] for g in groups]
+        for plan in plans.values():              # one atlas per instanced source
+            box.label(text=f"{plan.source.name}: {len(plan.placements)} instances, "
+                      f"{plan.size}² atlas", icon="OUTLINER_OB_GROUP_INSTANCE")
+        per_group = [[sizes[o.name] for o in targets if o.name not in g.member_names]
+                     + [p.size for p in plans.values()] for g in groups]
         est = sizing.estimate_for(scene, per_group, settings)
         row = box.row()
         row.label(text=est.text(), icon="TIME")

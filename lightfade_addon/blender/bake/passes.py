@@ -23,9 +23,13 @@ class Passes:
     """Finished passes per object and group: ``passes[object][group] = [(samples, map)]``
     (maps in bake units, luminance), and the :class:`.adaptive.Noise` measured."""
 
-    def __init__(self, settings, geometry):
+    def __init__(self, settings, geometry, regions=None):
         self.settings, self.geometry = settings, geometry
+        #: ``{map key: {name: (row slice, column slice)}}``: the parts of a shared map (an
+        #: atlas's objects, an instanced source's tiles) that each must reach the target
+        self.regions = regions or {}
         self.colours, self.pending, self.passes, self.noise = {}, {}, {}, {}
+        self.region_noise = {}   # (region name, group) -> adaptive.Noise
 
     def add(self, obj_name, group, samples, image):
         """A pass just baked into ``image``: denoised (when the settings say so), pending
@@ -68,16 +72,40 @@ class Passes:
 
     def measure(self, obj_name, group):
         """:class:`.adaptive.Noise` of the map so far (kept for the report); ``capped``
-        while it is above the target."""
-        s = self.settings
+        while it is above the target.  A map shared by several regions (:attr:`regions`)
+        is measured in each (kept in :attr:`region_noise`), and its noise is the worst
+        region's: a dim object in an atlas of bright ones gets the samples it needs."""
         passes = self.passes[obj_name][group]
-        found = adaptive.noise([y for _, y in passes], self.geometry[obj_name].covered,
-                               [n for n, _ in passes])
+        maps, samples = [y for _, y in passes], [n for n, _ in passes]
+        covered = self.geometry[obj_name].covered
+        regions = self.regions.get(obj_name)
+        if not regions:
+            found = self._measured(maps, covered, samples)
+        else:
+            found = None
+            for name, cell in regions.items():
+                part = self._measured([y[cell] for y in maps], covered[cell], samples)
+                self.region_noise[(name, group)] = part
+                if found is None or self._excess(part) > self._excess(found):
+                    found = part
+        self.noise[(obj_name, group)] = found
+        return found
+
+    def _measured(self, maps, covered, samples):
+        s = self.settings
+        found = adaptive.noise(maps, covered, samples)
         if found.p95 is not None:
             found.capped = found.p95 > s.noise_target or (
                 s.mean_target > 0 and found.mean > s.mean_target)
-        self.noise[(obj_name, group)] = found
         return found
+
+    def _excess(self, found):
+        """How far ``found`` is above the target (its error over the target's)."""
+        s = self.settings
+        if found.p95 is None:
+            return 0.0
+        return max(found.p95 / s.noise_target,
+                   found.mean / s.mean_target if s.mean_target else 0.0)
 
     def wanted(self, objects):
         """Measure every map of ``objects``; those above the target, by the pass they

@@ -100,6 +100,16 @@ class LIGHTFADE_PG_object(PropertyGroup):
         description="LightFade made the UV map (the mesh's own UVs overlap): Reset removes it",
         default=False,
     )
+    instance_tiles: StringProperty(
+        name="Instance Tiles",
+        description="Aged per instance: the attribute (custom property of each instancer) "
+        "naming each placement's tile in the exposure atlas; empty: not instanced",
+    )
+    instance_record: StringProperty(
+        name="Instance Record",
+        description="The placements baked into the atlas (instancer, id, world matrix), to "
+        "tell instances that moved, appeared or went",
+    )
 
 
 QUALITY_ITEMS = tuple(

@@ -18,6 +18,7 @@ from ...core.aging.ager import TextureAger
 from ...core.fading.grid import GridSettings
 from ...core.aging.noticeable import JND_DELTA_E00, years_to_noticeable
 from ..bake.common import LightFadeBakeError
+from ..bake.instances import tiled
 from ..bake.maps import exposure_signature, lights_and_exposure, map_key, read_lux
 from ..bake.raster import rasterise
 from ..bake.uvmaps import evaluated_mesh, triangle_uvs
@@ -88,9 +89,16 @@ def texel_albedo(scene, obj, material, shape):
                 "Cycles must bake: press Age once, then show the noticeable-fade view")
         rgb = read_rgba(baked[0].lightfade.albedo)[..., :3]
     rgb = np.clip(np.nan_to_num(rgb, nan=0.0, posinf=1.0), 0.0, 1.0)
-    if rgb.shape[:2] != tuple(shape):
-        rgb = np.stack([resample(rgb[..., c], shape) for c in range(3)], axis=-1)
-    return rgb.astype(np.float32)
+
+    def at(width):                              # an atlas repeats it in each tile
+        if rgb.shape[:2] == (width, width):
+            return rgb
+        return np.stack([resample(rgb[..., c], (width, width)) for c in range(3)], axis=-1)
+
+    if shape[0] != shape[1]:
+        return np.stack([resample(rgb[..., c], shape) for c in range(3)],
+                        axis=-1).astype(np.float32)
+    return tiled(obj, at, shape[0], 0.0).astype(np.float32)
 
 
 def years_until_noticeable(scene, obj, material, horizon=HORIZON_YEARS,
@@ -122,8 +130,8 @@ def material_labels(obj, size, depsgraph=None):
         tri, poly = triangle_uvs(mesh, uv_name)
         index = np.empty(len(mesh.polygons), dtype=np.int64)
         mesh.polygons.foreach_get("material_index", index)
-    _, label = rasterise(tri, size, index[poly], strict=False)
-    return label
+    return tiled(obj, lambda width: rasterise(tri, width, index[poly], strict=False)[1],
+                 size, -1)
 
 
 _SUMMARY = {}

@@ -3,7 +3,10 @@
 The view never edits the user's object or material: it adds a *view object*
 ``LF_DoseView.<object>`` sharing the object's mesh (and transform), whose material slots
 are linked to the object and hold one Emission material showing a false-colour image in
-the exposure UV map.  The object itself is hidden in the viewport meanwhile.  The view
+the exposure UV map.  The object itself is hidden in the viewport meanwhile.  A source
+aged through its instances shows the view on its instances instead: its own slots hold
+the view's material (reading each instance's tile of the atlas) until the view is
+cleared, and its slots are put back as they were.  The view
 object is off in renders and is no emitter for LightFade; :func:`clear_view` removes
 it, its material and image, and shows the object again as it was.
 """
@@ -15,10 +18,14 @@ import numpy as np
 
 from . import colours
 from .doses import HORIZON_YEARS, total_dose, years_until_noticeable
+from ..aging.graph import Graph, Sock
+from ..aging.instances import tile_uv
 
 VIEW_PREFIX = "LF_DoseView."
 _OF = "lightfade_dose_view_of"
 _HIDDEN = "lightfade_dose_view_hidden"
+#: On the view of an instanced source: the source's slots to put back.
+_SLOTS = "lightfade_dose_view_slots"
 
 
 def view_objects(scene):
@@ -65,7 +72,7 @@ def _image(name, rgba):
     return image
 
 
-def _material(name, image, uv_map):
+def _material(name, image, uv_map, tile=""):
     mat = bpy.data.materials.get(name) or bpy.data.materials.new(name)
     if bpy.app.version < (5, 0, 0):
         mat.use_nodes = True
@@ -78,7 +85,10 @@ def _material(name, image, uv_map):
     tex.interpolation = "Closest"
     emit = nodes.new("ShaderNodeEmission")
     out = nodes.new("ShaderNodeOutputMaterial")
-    links.new(uv.outputs["UV"], tex.inputs["Vector"])
+    vector = uv.outputs["UV"]
+    if tile:                                 # an atlas: each instance reads its tile
+        vector = tile_uv(Graph(mat.node_tree), Sock(None, vector, 0), tile).socket
+    links.new(vector, tex.inputs["Vector"])
     links.new(tex.outputs["Color"], emit.inputs["Color"])
     links.new(emit.outputs["Emission"], out.inputs["Surface"])
     nodes.active = tex
@@ -97,7 +107,7 @@ def show_view(scene, obj, mode="DOSE", material=None, view_layer=None, settings=
     view_layer = view_layer or bpy.context.view_layer
     name = VIEW_PREFIX + obj.name
     image = _image(name, colours.false_colour(values, scale))
-    mat = _material(name, image, obj.lightfade.uv_map)
+    mat = _material(name, image, obj.lightfade.uv_map, obj.lightfade.instance_tiles)
     view = obj.copy()
     view.name = name
     view[_OF] = obj.name
@@ -109,6 +119,10 @@ def show_view(scene, obj, mode="DOSE", material=None, view_layer=None, settings=
     view.parent = None
     view.matrix_world = obj.matrix_world.copy()
     scene.collection.objects.link(view)
+    if obj.lightfade.instance_tiles:            # shown on the source: on every instance
+        view.hide_viewport = True
+        view[_SLOTS] = _swap_slots(obj, mat)
+        return view, scale, note
     for slot in view.material_slots:
         slot.link = "OBJECT"
         slot.material = mat
@@ -117,15 +131,36 @@ def show_view(scene, obj, mode="DOSE", material=None, view_layer=None, settings=
     return view, scale, note
 
 
+def _swap_slots(obj, mat):
+    """Show ``mat`` in every slot of ``obj`` (object-linked); returns what to put back:
+    each slot's link and object-level material."""
+    backup = []
+    for slot in obj.material_slots:
+        link = slot.link
+        slot.link = "OBJECT"
+        backup.append([link, slot.material.name if slot.material else ""])
+        slot.material = mat
+    return backup
+
+
+def _restore_slots(obj, backup):
+    for slot, (link, name) in zip(obj.material_slots, backup):
+        slot.link = "OBJECT"
+        slot.material = bpy.data.materials.get(name) if name else None
+        slot.link = link
+
+
 def clear_view(scene, obj=None, view_layer=None):
     """Remove the view of ``obj`` (default: every view) and show the objects as before.
     Returns how many views were removed."""
     view_layer = view_layer or bpy.context.view_layer
     removed = 0
     for view in view_objects(scene):
-        of = scene.objects.get(view[_OF])
+        of = scene.objects.get(view[_OF]) or bpy.data.objects.get(view[_OF])
         if obj is not None and of is not obj:
             continue
+        if view.get(_SLOTS) is not None and of is not None:
+            _restore_slots(of, [list(b) for b in view[_SLOTS]])
         hidden = bool(view.get(_HIDDEN, False))
         name = view.name
         bpy.data.objects.remove(view)
