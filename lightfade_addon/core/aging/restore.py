@@ -66,6 +66,13 @@ displayable original more than ΔE00 2 away that aging (with its own unmixing) t
 the seen colour as well, to the seen colour's rounding, is a fold of the forward map,
 and the texel is lost too.
 
+One unmixed colourant (bare wood: the extractive) makes the recipe's colours a curve,
+and a colour off it (a sky blue) a least-squares solution that jumps from one end of
+the curve to the other between nearby colours. The grid's solve then only starts the
+polish, which runs to a fixed point (:func:`_polish`), and a fold need not show in
+``spread`` (a sky blue with none of the extractive and a grey with all of it fade to
+one colour): every such colour is probed along the whole curve (:func:`_fixed_points`).
+
 Also lost: texels that no displayable original explains (the original the inversion
 finds lies more than ΔE00 2 outside [0, 1]: a history the photograph cannot have had,
 such as far more light than it received); they keep the nearest displayable colour.
