@@ -135,8 +135,8 @@ _FIXED_POINT = 30
 _FIXED_TOLERANCE = 1e-4
 #: Samples of a one-colourant curve and bisections of each crossing that look for a
 #: second original (:func:`_fixed_points`).
-_CURVE_PROBES = 17
-_BISECTIONS = 12
+_CURVE_PROBES = 9
+_BISECTIONS = 8
 #: Nodes per axis of the inverse table that starts the solves (:func:`_inverse_starts`),
 #: built when there are this many times its nodes of colours per dose.
 _INVERSE_NODES = 13
