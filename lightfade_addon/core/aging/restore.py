@@ -517,7 +517,7 @@ def _other_original(aged, rows, c0, XYZ_seen, direction, seen, unmixer):
 
     XYZ0, own = original_and_miss(c0)
     found = np.zeros(c0.shape[0])
-    if unmixer.square:
+    if unmixer.Cu != 1:
         probes = [(np.arange(c0.shape[0]), _solve(aged, rows, XYZ_seen, np.clip(
             c0 + sign * _PROBE_STEP * direction, 0.0, 1.0))) for sign in (1.0, -1.0)]
     else:       # a curve: every fixed point along it, attracting or not
@@ -754,7 +754,7 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
             aged, rows, c0, XYZ_g[rows], unmixer, precision)
         # with one colourant the fold need not show in the spread (a sky blue and a
         # grey of full extractive fade to one colour): every colour is probed
-        probe = (np.flatnonzero((spread_g[rows] > _PROBE) | (not unmixer.square))
+        probe = (np.flatnonzero((spread_g[rows] > _PROBE) | (unmixer.Cu == 1))
                  if unmixer.Cu else [])
         if len(probe):
             other = _other_original(aged, rows[probe], c0[probe], XYZ_g[rows[probe]],
