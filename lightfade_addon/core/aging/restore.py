@@ -66,6 +66,13 @@ displayable original more than ΔE00 2 away that aging (with its own unmixing) t
 the seen colour as well, to the seen colour's rounding, is a fold of the forward map,
 and the texel is lost too.
 
+One unmixed colourant (bare wood: the extractive) makes the recipe's colours a curve,
+and a colour off it (a sky blue) a least-squares solution that jumps from one end of
+the curve to the other between nearby colours. The grid's solve then only starts the
+polish, which runs to a fixed point (:func:`_polish`), and a fold need not show in
+``spread`` (a sky blue with none of the extractive and a grey with all of it fade to
+one colour): every such colour is probed along the whole curve (:func:`_fixed_points`).
+
 Also lost: texels that no displayable original explains (the original the inversion
 finds lies more than ΔE00 2 outside [0, 1]: a history the photograph cannot have had,
 such as far more light than it received); they keep the nearest displayable colour.
@@ -103,7 +110,7 @@ from ..fading.lights import Light, dose_rates, spectra_keys
 from ..fading.recipes import get_recipe
 from ..fading.spectra import WAVELENGTHS, light_spectrum
 from . import texels
-from .texels import UNMIX_REFINE, _codes, _decode, _distinct
+from .texels import _codes, _decode, _distinct, aging_refine
 from ..fading.unmix import bounded_gauss_newton, get_unmixer, pseudo_inverse
 
 __all__ = ["LOST_APART", "PRECISION", "Prior", "Restored", "restore"]
@@ -119,8 +126,17 @@ _ITERATIONS = 12
 _TOLERANCE = 0.05
 #: ... or at which its concentrations move less than this in a step.
 _STEP_TOLERANCE = 1e-3
-#: Fixed-point steps with the aging's own unmixing after it.
+#: Fixed-point steps with the aging's own unmixing after it, when that unmixing is
+#: square (:attr:`.unmix.Unmixer.square`) ...
 _POLISH = 1
+#: ... and at most this many otherwise (bare wood), to a fixed point: rows leave when
+#: their concentrations move less than :data:`_FIXED_TOLERANCE`.
+_FIXED_POINT = 30
+_FIXED_TOLERANCE = 1e-4
+#: Samples of a one-colourant curve and bisections of each crossing that look for a
+#: second original (:func:`_fixed_points`).
+_CURVE_PROBES = 9
+_BISECTIONS = 8
 #: Nodes per axis of the inverse table that starts the solves (:func:`_inverse_starts`),
 #: built when there are this many times its nodes of colours per dose.
 _INVERSE_NODES = 13
@@ -488,23 +504,63 @@ def _other_original(aged, rows, c0, XYZ_seen, direction, seen, unmixer):
     unmixed by the aging's own unmixing), so that only true alternatives count.
     """
     Lab_seen = XYZ_to_Lab(XYZ_seen)
+    rows = np.asarray(rows)
 
-    def original_and_miss(c):
-        """The displayable original ``c`` stands for, and how far aging it lands from
-        the seen colour (ΔE*ab)."""
-        lin = into_gamut(XYZ_to_linear_srgb(XYZ_seen / np.exp(aged.log_ratio(c, rows))))
+    def original_and_miss(c, r=slice(None)):
+        """The displayable original ``c`` stands for (seen colours ``r``), and how far
+        aging it lands from the seen colour (ΔE*ab)."""
+        lin = into_gamut(XYZ_to_linear_srgb(XYZ_seen[r] / np.exp(aged.log_ratio(c, rows[r]))))
         XYZ = linear_srgb_to_XYZ(lin)
-        again = XYZ * np.exp(aged.log_ratio(unmixer.unmix(lin, refine=UNMIX_REFINE), rows))
-        return XYZ, np.linalg.norm(XYZ_to_Lab(again) - Lab_seen, axis=-1)
+        again = XYZ * np.exp(aged.log_ratio(unmixer.unmix(lin, refine=aging_refine(unmixer)),
+                                            rows[r]))
+        return XYZ, np.linalg.norm(XYZ_to_Lab(again) - Lab_seen[r], axis=-1)
 
     XYZ0, own = original_and_miss(c0)
     found = np.zeros(c0.shape[0])
-    for sign in (1.0, -1.0):
-        start = np.clip(c0 + sign * _PROBE_STEP * direction, 0.0, 1.0)
-        other, miss = original_and_miss(_solve(aged, rows, XYZ_seen, start))
-        apart = delta_E_2000(XYZ_to_Lab(other), XYZ_to_Lab(XYZ0))
-        found = np.maximum(found, np.where(miss <= own + seen, apart, 0.0))
+    if unmixer.Cu != 1:
+        probes = [(np.arange(c0.shape[0]), _solve(aged, rows, XYZ_seen, np.clip(
+            c0 + sign * _PROBE_STEP * direction, 0.0, 1.0))) for sign in (1.0, -1.0)]
+    else:       # a curve: every fixed point along it, attracting or not
+        probes = [_fixed_points(aged, rows, XYZ_seen, unmixer)]
+    for r, candidate in probes:
+        other, miss = original_and_miss(candidate, r)
+        apart = delta_E_2000(XYZ_to_Lab(other), XYZ_to_Lab(XYZ0[r]))
+        np.maximum.at(found, r, np.where(miss <= own[r] + seen[r], apart, 0.0))
     return found
+
+
+def _fixed_points(aged, rows, XYZ_seen, unmixer):
+    """One unmixed colourant: the concentrations where the fixed-point map of
+    :func:`_polish` crosses the diagonal, ``unmix(XYZ_seen / exp(change(c, d))) = c``.
+
+    The map is sampled at :data:`_CURVE_PROBES` concentrations per row; each sign
+    change of ``map(c) - c`` between two samples is bisected (:data:`_BISECTIONS`
+    times), and samples where it is zero count as they are. Off the recipe's curve the
+    unmixing jumps (a sky blue's nearest point of the curve is one end of it or the
+    other), so a crossing may be a jump rather than a fixed point: the caller checks
+    each candidate's round trip. Returns the rows (m,) and concentrations (m, 1).
+    """
+    refine = aging_refine(unmixer)
+
+    def excess(c, r):
+        lin = into_gamut(XYZ_to_linear_srgb(XYZ_seen[r] / np.exp(aged.log_ratio(c, rows[r]))))
+        return unmixer.unmix(lin, refine=refine)[:, 0] - c[:, 0]
+
+    n, m = rows.size, _CURVE_PROBES
+    node = np.linspace(0.0, 1.0, m)
+    h = excess(np.tile(node, n)[:, None], np.repeat(np.arange(n), m)).reshape(n, m)
+    zero = np.abs(h) <= _FIXED_TOLERANCE
+    r_zero, k_zero = np.nonzero(zero)
+    r_cross, k_cross = np.nonzero((np.sign(h[:, :-1]) * np.sign(h[:, 1:]) < 0)
+                                  & ~zero[:, :-1] & ~zero[:, 1:])
+    lo, hi = node[k_cross], node[k_cross + 1]
+    h_lo = h[r_cross, k_cross]
+    for _ in range(_BISECTIONS if r_cross.size else 0):
+        mid = 0.5 * (lo + hi)
+        same = np.sign(excess(mid[:, None], r_cross)) == np.sign(h_lo)
+        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+    c = np.concatenate([node[k_zero], 0.5 * (lo + hi)])
+    return np.concatenate([r_zero, r_cross]), c[:, None]
 
 
 def _solve(aged, rows, XYZ_seen, start):
@@ -524,13 +580,32 @@ def _solve(aged, rows, XYZ_seen, start):
                                 tol=_TOLERANCE, step_tol=_STEP_TOLERANCE)
 
 
+def _polish(aged, rows, XYZ_seen, c0, unmixer):
+    """Fixed-point steps ``c0 = unmix(XYZ_seen / exp(change(c0, d)))`` with the aging's
+    own unmixing (:func:`.texels.aging_refine`), for an exact round trip: one
+    (:data:`_POLISH`) when the unmixing is square; otherwise (one colourant: a colour
+    off the recipe's curve is a least-squares solution, and the grid's solve only
+    matches aged colours on the curve) to a fixed point, at most :data:`_FIXED_POINT`.
+    """
+    refine = aging_refine(unmixer)
+    c0 = np.array(c0, dtype=float)
+    rows = np.asarray(rows)
+    active = np.arange(c0.shape[0])
+    for _ in range(_POLISH if unmixer.square else _FIXED_POINT):
+        new = into_gamut(XYZ_to_linear_srgb(
+            XYZ_seen[active] / np.exp(aged.log_ratio(c0[active], rows[active]))))
+        c = unmixer.unmix(new, refine=refine)
+        moved = np.abs(c - c0[active]).max(axis=1, initial=0.0)
+        c0[active] = c
+        active = active[moved > _FIXED_TOLERANCE]
+        if not active.size:
+            break
+    return c0
+
+
 def _invert(aged, rows, XYZ_seen, start, unmixer):
     """Restored concentrations (n, Cu) of seen colours ``XYZ_seen`` (n, 3) at ``rows``."""
-    c0 = _solve(aged, rows, XYZ_seen, start)
-    for _ in range(_POLISH):        # the aging's own unmixing, for an exact round trip
-        new = into_gamut(XYZ_to_linear_srgb(XYZ_seen / np.exp(aged.log_ratio(c0, rows))))
-        c0 = unmixer.unmix(new, refine=UNMIX_REFINE)
-    return c0
+    return _polish(aged, rows, XYZ_seen, _solve(aged, rows, XYZ_seen, start), unmixer)
 
 
 def _inverse_starts(grid, unmixer, dose, lit, encoded):
@@ -677,7 +752,10 @@ def restore(rgb, years, recipe="printed-paper", lights=(Light(),), exposure=None
         c0 = _invert(aged, rows, XYZ_g[rows], start, unmixer) if unmixer.Cu else start
         spread_g[rows], log_ratio[rows], direction, seen = _uncertainty(
             aged, rows, c0, XYZ_g[rows], unmixer, precision)
-        probe = np.flatnonzero(spread_g[rows] > _PROBE) if unmixer.Cu else []
+        # with one colourant the fold need not show in the spread (a sky blue and a
+        # grey of full extractive fade to one colour): every colour is probed
+        probe = (np.flatnonzero((spread_g[rows] > _PROBE) | (unmixer.Cu == 1))
+                 if unmixer.Cu else [])
         if len(probe):
             other = _other_original(aged, rows[probe], c0[probe], XYZ_g[rows[probe]],
                                     direction[probe], seen[probe], unmixer)

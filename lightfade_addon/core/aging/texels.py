@@ -25,7 +25,7 @@ import numpy as np
 
 from ..colour.colorimetry import XYZ_to_Lab, linear_srgb_to_XYZ, srgb_decode
 
-__all__ = ["MAX_KEYS", "UNMIX_BUDGET", "UNMIX_REFINE", "texel_concentrations"]
+__all__ = ["MAX_KEYS", "UNMIX_BUDGET", "UNMIX_REFINE", "aging_refine", "texel_concentrations"]
 
 #: Most keys per texture by default (:class:`.aging.TextureAger` sets its own from
 #: the size of its table, :data:`.aging.TABLE_ROWS`).
@@ -99,6 +99,13 @@ def _linearised(colours, unmixer, refine):
     return np.clip(c_bin[member] + np.einsum("nki,ni->nk", slope[member], step), 0.0, 1.0)
 
 
+def aging_refine(unmixer, refine=UNMIX_REFINE):
+    """The ``refine`` of :meth:`.unmix.Unmixer.unmix` that aging unmixes ``unmixer``'s
+    colours with: ``refine`` Newton steps when the unmixing is square
+    (:attr:`.unmix.Unmixer.square`), else None (to convergence, as ``--exact``)."""
+    return refine if unmixer.square else None
+
+
 def texel_concentrations(rgb_encoded, unmixer, max_keys=None, refine=UNMIX_REFINE):
     """Concentrations per key and each texel's key.
 
@@ -125,8 +132,7 @@ def texel_concentrations(rgb_encoded, unmixer, max_keys=None, refine=UNMIX_REFIN
         Concentrations of the unmixed colourants per key, K <= ``max_keys``.
     """
     max_keys = MAX_KEYS if max_keys is None else int(max_keys)
-    if not unmixer.square:
-        refine = None
+    refine = aging_refine(unmixer, refine)
     if unmixer.Cu == 0:
         return np.zeros(rgb_encoded.shape[0], dtype=np.int32), np.zeros((1, 0))
     colours, inverse = _distinct(rgb_encoded)
