@@ -42,6 +42,20 @@ def readable_colourspace(image):
     return name in SRGB_SPACES or name in LINEAR_SPACES
 
 
+#: Linear value of each 8-bit sRGB code (float32), made on first use.
+_SRGB_CODES = []
+
+
+def decode_srgb_bytes(values):
+    """Linear float32 of sRGB byte values read as floats (``code / 255``, as Blender
+    hands byte pixels out), through a 256-entry table of :func:`srgb_decode`: the
+    same numbers, without a power per texel."""
+    if not _SRGB_CODES:
+        _SRGB_CODES.append(srgb_decode(np.arange(256) / 255.0).astype(np.float32))
+    codes = np.rint(np.clip(values, 0.0, 1.0) * np.float32(255.0)).astype(np.uint8)
+    return _SRGB_CODES[0][codes]
+
+
 def read_linear(image):
     """(H, W, 4) float32 of an image's colour in linear Rec.709 (alpha as stored).
 
@@ -50,7 +64,7 @@ def read_linear(image):
     """
     rgba = read_rgba(image)
     if not image.is_float and image.colorspace_settings.name.lower() in SRGB_SPACES:
-        rgba[..., :3] = srgb_decode(np.clip(rgba[..., :3], 0.0, 1.0))
+        rgba[..., :3] = decode_srgb_bytes(rgba[..., :3])
     return rgba
 
 

@@ -20,7 +20,7 @@ import time
 import bpy
 import numpy as np
 
-from . import data as agingdata, parts, runtime
+from . import parts, runtime
 from ..albedo import albedo_image, bake_albedos
 from .copies import APPLIED_NAME, GROUP_NODE, copies_of, walk
 from ..errors import AgingError, check_years
@@ -29,7 +29,6 @@ from ..pixels import write_rgba
 from ..source import find_colour_socket
 from .years import get_years, write_years
 from ...core.colour.colorimetry import srgb_encode
-from ...core.aging.colourtable import evaluate
 from .group import GROUP_VERSION
 from ..part_properties import parts_digest
 
@@ -165,12 +164,7 @@ def aged_pixels(scene, copy, years):
     original = original_pixels(scene, copy)
     if len(copy.lightfade.lanes):                    # several recipes by mask
         return parts.aged_pixels(scene, _view_layer(scene), copy, original, years)
-    table = runtime.evaluator(copy)
-    H, W = original.shape[:2]
-    rgba = original.reshape(H * W, 4).copy()
-    inputs, _keys = agingdata.map_inputs(scene, copy.lightfade.aged_object)
-    evaluate(table, rgba[:, :3], agingdata.rates(inputs, table.S, (H, W)), years, out=rgba)
-    return rgba.reshape(H, W, 4)
+    return runtime.aged_rgb(scene, copy, original, years)
 
 
 def apply_copy(scene, copy, years):
