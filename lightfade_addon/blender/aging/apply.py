@@ -99,6 +99,13 @@ def _extension(copy):
     return "EXTEND"
 
 
+def sampling(copy):
+    """``(interpolation, extension)`` aged images of ``copy`` are read with: the user's
+    image's on the direct path, else Linear and Extend."""
+    user = _user_image_node(copy)
+    return (user.interpolation if user is not None else "Linear"), _extension(copy)
+
+
 def update_scene(scene, years=None, report=print):
     """Show ``years`` (default: the scene's) on every aged copy; seconds taken.
 
@@ -198,9 +205,7 @@ def apply_copy(scene, copy, years):
             tree.links.new(uv.outputs["UV"], applied.inputs["Vector"])
         tree.nodes[APPLIED_NAME + " UV"].uv_map = props.uv_map
         applied.image = image
-        user = _user_image_node(copy)                # sampled as the user's image is
-        applied.interpolation = user.interpolation if user is not None else "Linear"
-        applied.extension = _extension(copy)
+        applied.interpolation, applied.extension = sampling(copy)   # as the user's image
         tree.links.new(applied.outputs["Color"], socket)
     return image
 

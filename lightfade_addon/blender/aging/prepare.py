@@ -17,7 +17,8 @@ from __future__ import annotations
 
 import bpy
 
-from . import data as agingdata, parts, runtime
+from . import data as agingdata, frames, parts, runtime
+from .apply import sampling
 from .copies import assign, copies_of, gate_rays, make_copy
 from .years import write_years
 from ..errors import AgingError, check_years
@@ -82,8 +83,10 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
                 parts.prepare(scene, copy, plan.colour, step)
             else:
                 runtime.prepare(scene, copy, plan.colour, step)
-            gate_rays(copy, plan.colour, scene.lightfade.aged_rays,
-                      zero_years=runtime.material_prior(material) is None)
+            new = runtime.material_prior(material) is None
+            gate_rays(copy, plan.colour, scene.lightfade.aged_rays, zero_years=new)
+            if not parts.has_parts(material):       # parts render live (their weights bake)
+                frames.add_branch(copy, plan.colour, *sampling(copy), zero_years=new)
     except BaseException:
         for copy in made:
             remove_aged(copy)
