@@ -30,6 +30,7 @@ from .aging.years import linear_keys
 @persistent
 def on_load(_dummy=None, _more=None):
     runtime.clear()
+    frames.forget()
 
 
 @persistent
@@ -70,3 +71,4 @@ def unregister():
         while fn in handler_list:
             handler_list.remove(fn)
     runtime.clear()
+    frames.forget()

@@ -68,6 +68,42 @@ def test_a_render_reads_the_frame_images_written_for_it(textured, tmp_path, monk
     assert np.abs(live - framed).max() > 0                # not the same branch
 
 
+def test_frame_images_are_written_only_when_what_they_hold_changes(textured, monkeypatch):
+    """The same years again writes nothing; other years, a painted texture and a re-bake
+    write again, each time Apply's pixels."""
+    from lightfade_addon.blender.aging import frames, runtime
+    from lightfade_addon.blender.aging.apply import aged_pixels
+
+    scene = bpy.context.scene
+    _bake_and_age(years=8)
+    copy = the_copy(textured["material"])
+    runs = []
+    real = runtime.aged_rgb
+
+    def counted(*args, **kwargs):
+        runs.append(args[3])
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(runtime, "aged_rgb", counted)
+    frames.write_frames(scene, 8.0)
+    frames.write_frames(scene, 8.0)
+    assert runs == [8.0]
+    frames.write_frames(scene, 9.0)
+    assert runs == [8.0, 9.0]
+    albedo = copy.lightfade.albedo
+    px = rgba(albedo)
+    px[..., :3] *= 0.5                                           # painted darker
+    albedo.pixels.foreach_set(px.ravel())
+    frames.write_frames(scene, 9.0)
+    assert runs == [8.0, 9.0, 9.0]
+    exposure = copy.lightfade.aged_object.lightfade.exposure_maps[0].image
+    exposure["lightfade_bake_id"] = int(exposure.get("lightfade_bake_id", 0)) + 1
+    frames.write_frames(scene, 9.0)
+    assert runs == [8.0, 9.0, 9.0, 9.0]
+    np.testing.assert_allclose(rgba(frames.frame_image(copy)), aged_pixels(scene, copy, 9.0),
+                               atol=1e-6)
+
+
 def test_zero_years_renders_the_original_pixels_with_frames(textured, tmp_path, monkeypatch):
     """At 0 years the switch stays on the live side, whose gate passes the original."""
     scene = bpy.context.scene

@@ -5,7 +5,7 @@ graph (about forty table and map lookups against one image texture). Where Light
 is installed, a render does not need it: before each frame (``render_pre``) the
 numpy twin writes each aged copy's colour at the frame's years into the copy's
 **frame image** (:func:`.runtime.aged_rgb`: tens of ms per Mtexel once the years range
-is known), and the copy shows a BSDF fed by that image instead of the live one.
+is known; nothing when the image holds that colour already), and the copy shows a BSDF fed by that image instead of the live one.
 
 Each copy's tree gets, beside the live BSDF (and its gate), a **frame branch**: a
 duplicate of the colour BSDF whose colour is an Image Texture of the frame image in
@@ -30,6 +30,7 @@ from __future__ import annotations
 import bpy
 from bpy.app.handlers import persistent
 
+from . import runtime
 from .copies import GATE_AGED, _colour_socket, _duplicate, copies_of
 from .years import YEARS_PROP, get_years, years_fcurve
 from ..source import FRAME_MIX, GATE_MIX
@@ -149,21 +150,32 @@ def frame_years(scene):
     return get_years(scene)
 
 
+#: What each frame image holds: image pointer -> (twin key, years, size).
+_WRITTEN = {}
+
+
 def write_frame(scene, copy, years):
     """Write ``copy``'s aged colour at ``years`` into its frame image (at the texture's
-    resolution); returns the image (None without a frame branch)."""
-    from .apply import aged_pixels
+    resolution), unless it holds exactly that already; returns the image (None
+    without a frame branch)."""
+    from .apply import original_pixels
 
     image = frame_image(copy)
     if image is None:
         return None
-    rgba = aged_pixels(scene, copy, years)
+    rgba = original_pixels(scene, copy)
     H, W = rgba.shape[:2]
+    key = runtime.twin_key(scene, copy, rgba)
+    held = (key, float(years), (W, H))
+    if tuple(image.size) == (W, H) and _WRITTEN.get(image.as_pointer()) == held:
+        return image
+    runtime.aged_rgb(scene, copy, rgba, years, key=key)
     if tuple(image.size) != (W, H):
         image.generated_width, image.generated_height = W, H
     image.pixels.foreach_set(rgba.reshape(-1))
     image.update()
     image["lightfade_years"] = float(years)
+    _WRITTEN[image.as_pointer()] = held
     return image
 
 
@@ -240,9 +252,15 @@ HANDLERS = (
 )
 
 
+def forget():
+    """Forget what the frame images hold (file load, unregister)."""
+    _WRITTEN.clear()
+
+
 def remove_frame_images(copy):
     for _tree, node in frame_nodes(copy):
         if node.image is not None:
+            _WRITTEN.pop(node.image.as_pointer(), None)
             bpy.data.images.remove(node.image)
             node.image = None
 

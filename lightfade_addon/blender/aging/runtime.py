@@ -241,15 +241,27 @@ def _cells(copy, lane, table):
     return cells
 
 
-def aged_rgb(scene, copy, rgba, years, lane=None):
+def twin_key(scene, copy, rgba, lane=None):
+    """What the numpy twin's result for the colour ``rgba`` (H, W, 4) depends on
+    besides the years: the table image, the copy's signature, its object's exposure,
+    the size and a digest (CRC-32) of the colour. Hashable."""
+    props = copy.lightfade
+    evaluator(copy, lane)
+    flat = np.ascontiguousarray(rgba)
+    return (_EVALUATORS[_slot(copy, lane)][0], props.signature,
+            exposure_signature(scene, props.aged_object), flat.shape, zlib.crc32(flat.data))
+
+
+def aged_rgb(scene, copy, rgba, years, lane=None, key=None):
     """Aged linear colour (in place in ``rgba``'s first three channels, (H, W, 4)) of
     ``copy`` (or its ``lane``) at ``years``: the numpy twin of the node group.
 
     Everything that does not depend on the years — the texels' annual doses, light-mix
     vertices and, for the years last asked, the change at the two dose nodes around
     them — is kept per copy (:mod:`..core.aging.prepared`) while the table, the copy's
-    signature, its object's exposure and the colour are the same; then a years value
-    costs the dose lookup and the colour stage (tens of ms per Mtexel).
+    signature, its object's exposure and the colour are the same (:func:`twin_key`,
+    or ``key`` when the caller has it); then a years value costs the dose lookup and
+    the colour stage (tens of ms per Mtexel).
     """
     props = copy.lightfade
     obj = props.aged_object
@@ -257,8 +269,8 @@ def aged_rgb(scene, copy, rgba, years, lane=None):
     H, W = rgba.shape[:2]
     flat = rgba.reshape(H * W, 4)
     slot = _slot(copy, lane)
-    inputs_key = (_EVALUATORS[slot][0], props.signature, exposure_signature(scene, obj), (H, W))
-    digest = zlib.crc32(np.ascontiguousarray(flat).data)
+    key = twin_key(scene, copy, rgba, lane) if key is None else key
+    inputs_key, digest = key[:-1], key[-1]
     cached = _PREPARED.get(slot)
     if cached is None or cached[0] != inputs_key:
         inputs, _keys = agingdata.map_inputs(scene, obj)
