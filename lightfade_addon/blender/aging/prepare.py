@@ -22,6 +22,7 @@ from .apply import sampling
 from .copies import assign, copies_of, gate_rays, make_copy
 from .years import write_years
 from ..errors import AgingError, check_years
+from ...progress import console_after
 from ..exposure import exposure_uv
 from .grids import purge
 from ..reset import remove_aged
@@ -64,7 +65,7 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
     plans, problems = check(scene, pairs)
     if problems:
         raise AgingError(format_problems(problems))
-    say = progress or (lambda f, m: None)
+    say = console_after(progress, 2.0, "LightFade Age")    # a long Age says what it does
     for obj, material in pairs:
         for old in copies_of(material, obj):
             remove_aged(old)
