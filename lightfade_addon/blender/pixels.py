@@ -56,6 +56,15 @@ def decode_srgb_bytes(values):
     return _SRGB_CODES[0][codes]
 
 
+def encode_srgb(linear):
+    """sRGB-encoded float32 of linear values in [0, 1] (IEC 61966-2-1, as
+    :func:`..core.colour.colorimetry.srgb_encode`, in float32 without a copy to float64):
+    what a byte image in an sRGB colour space is given, Blender rounding it to a code."""
+    x = np.clip(np.asarray(linear, dtype=np.float32), 0.0, 1.0)
+    high = np.float32(1.055) * np.power(x, np.float32(1.0 / 2.4)) - np.float32(0.055)
+    return np.where(x <= np.float32(0.0031308), np.float32(12.92) * x, high)
+
+
 def read_linear(image):
     """(H, W, 4) float32 of an image's colour in linear Rec.709 (alpha as stored).
 

@@ -4,8 +4,9 @@ The aging group costs Cycles far more per shading point than the artist's own
 graph (about forty table and map lookups against one image texture). Where LightFade
 is installed, a render does not need it: before each frame (``render_pre``) the
 numpy twin writes each aged copy's colour at the frame's years into the copy's
-**frame image** (:func:`.runtime.aged_rgb`: tens of ms per Mtexel once the years range
-is known; nothing when the image holds that colour already), and the copy shows a BSDF fed by that image instead of the live one.
+**frame image**, 8-bit sRGB as the artist's textures (:func:`.runtime.aged_rgb`: tens
+of ms per Mtexel once the years range is known; nothing when the image holds that
+colour already), and the copy shows a BSDF fed by that image instead of the live one.
 
 Each copy's tree gets, beside the live BSDF (and its gate), a **frame branch**: a
 duplicate of the colour BSDF whose colour is an Image Texture of the frame image in
@@ -31,6 +32,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import runtime
+from ..pixels import encode_srgb
 from .copies import GATE_AGED, _colour_socket, _duplicate, copies_of
 from .years import YEARS_PROP, get_years, years_fcurve
 from ..source import FRAME_MIX, GATE_MIX
@@ -61,8 +63,10 @@ def frame_image(copy):
 
 
 def _new_image(copy):
-    image = bpy.data.images.new(FRAME_PREFIX + copy.name, 1, 1, alpha=True, float_buffer=True)
-    image.colorspace_settings.name = "Linear Rec.709"
+    """An 8-bit sRGB generated image, as the artist's textures are: the frame reads as
+    many bytes as the original does (a float image: four times as many)."""
+    image = bpy.data.images.new(FRAME_PREFIX + copy.name, 1, 1, alpha=True, float_buffer=False)
+    image.colorspace_settings.name = "sRGB"
     return image
 
 
@@ -172,6 +176,7 @@ def write_frame(scene, copy, years):
     runtime.aged_rgb(scene, copy, rgba, years, key=key)
     if tuple(image.size) != (W, H):
         image.generated_width, image.generated_height = W, H
+    rgba[..., :3] = encode_srgb(rgba[..., :3])
     image.pixels.foreach_set(rgba.reshape(-1))
     image.update()
     image["lightfade_years"] = float(years)
