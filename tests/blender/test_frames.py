@@ -18,6 +18,11 @@ from lightfade_addon.core.colour.colorimetry import delta_E_2000
 bpy = pytest.importorskip("bpy")
 
 
+def switched(frames):
+    """The frame switches' factors (0: live, 1: frame image)."""
+    return [mix.inputs["Fac"].default_value for _copy, mix in frames.switches()]
+
+
 def assert_holds(image, linear):
     """``image`` (8-bit sRGB) holds the linear colours ``linear`` (H, W, 4), each
     rounded to its nearest code."""
@@ -50,8 +55,9 @@ def test_a_render_reads_the_frame_images_written_for_it(textured, tmp_path, monk
     _camera_and_render_settings(scene)
     _bake_and_age(years=30)
     copy = the_copy(textured["material"])
+    assert switched(frames) == [0.0]
     framed = _render(scene, tmp_path, "framed.exr")
-    assert not scene.get(frames.FRAME_PROP)
+    assert switched(frames) == [0.0]
     image = frames.frame_image(copy)
     assert image["lightfade_years"] == 30.0
     assert_holds(image, aged_pixels(scene, copy, 30.0))
@@ -131,17 +137,16 @@ def test_the_switch_is_never_saved_on(textured, tmp_path):
     _camera_and_render_settings(scene)
     _bake_and_age(years=10)
     frames.on_render_pre(scene)
-    assert scene[frames.FRAME_PROP] == 1.0
+    assert switched(frames) == [1.0]
     image = frames.frame_image(the_copy(textured["material"]))
     assert tuple(image.size) == tuple(the_copy(textured["material"]).lightfade.albedo.size)
     path = tmp_path / "mid_render.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
-    assert scene[frames.FRAME_PROP] == 1.0
+    assert switched(frames) == [1.0]
     frames.on_render_end(scene)
-    assert scene[frames.FRAME_PROP] == 0.0
+    assert switched(frames) == [0.0]
     bpy.ops.wm.open_mainfile(filepath=str(path))
-    scene = bpy.context.scene
-    assert not scene.get(frames.FRAME_PROP)
+    assert switched(frames) == [0.0]
     (image,) = [i for i in bpy.data.images if i.name.startswith(frames.FRAME_PREFIX)]
     assert tuple(image.size) == (1, 1)
 
@@ -170,7 +175,7 @@ def test_an_animation_writes_each_frames_years(textured, tmp_path):
     finally:
         frames.write_frame = real
     assert seen == pytest.approx([0.0, 20.0, 40.0])
-    assert not scene.get(frames.FRAME_PROP)
+    assert switched(frames) == [0.0]
 
 
 def test_reset_removes_the_frame_images(textured):

@@ -11,19 +11,19 @@ colour already), and the copy shows a BSDF fed by that image instead of the live
 Each copy's tree gets, beside the live BSDF (and its gate), a **frame branch**: a
 duplicate of the colour BSDF whose colour is an Image Texture of the frame image in
 the copy's exposure UV map (interpolation and extension as the artist's image), and a
-Mix Shader (:data:`FRAME_MIX`) choosing between the live shader (factor 0) and it
-(factor 1). Its factor is the scene's custom property :data:`FRAME_PROP` (an
-Attribute node, View Layer) times, where 0 years is the original, ``years > 0``.
-Cycles compiles a Mix Shader's two closures behind jumps, so at a factor of exactly 0
-or 1 the other branch and every node only it uses are skipped: the frame renders at
-the price of an image texture, the live material at the live price.
+Mix Shader (:data:`..source.FRAME_MIX`) choosing between the live shader (factor 0)
+and it (factor 1). The factor is a constant, 0 in the file: the handler sets it to 1
+for the render (where the copy is aged: years above 0, or a texture with a history),
+so Cycles' constant folding removes the live branch from the compiled shader — its
+nodes, and the table, exposure maps and artist's colour textures it alone reads are
+not even loaded — and the frame costs an image texture where the original read one.
 
-:data:`FRAME_PROP` is 1 only between ``render_pre`` and the end of the render
-(``render_post``, ``render_cancel``, ``render_complete``) and is never saved set
-(``save_pre`` clears it, ``save_post`` puts it back during a render); the frame images
-are *generated* images (nothing of them is saved) shrunk to one texel when saved.
-So a saved file opened anywhere, with or without LightFade, renders the live
-material, and the viewport always shows it.
+The factors are 1 only between ``render_pre`` and the end of the render
+(``render_complete``, ``render_cancel``; an animation keeps them on from frame to
+frame) and are never saved so (``save_pre`` sets them to 0, ``save_post`` puts them
+back during a render); the frame images are *generated* images (nothing of them is
+saved) shrunk to one texel when saved. So a saved file opened anywhere, with or
+without LightFade, renders the live material, and the viewport always shows it.
 """
 
 from __future__ import annotations
@@ -33,19 +33,15 @@ from bpy.app.handlers import persistent
 
 from . import runtime
 from ..pixels import encode_srgb
-from .copies import GATE_AGED, _colour_socket, _duplicate, copies_of
-from .years import YEARS_PROP, get_years, years_fcurve
+from .copies import _colour_socket, _duplicate, copies_of
+from .years import get_years, years_fcurve
 from ..source import FRAME_MIX, GATE_MIX
 
-#: The scene's custom property that switches aged copies to their frame images.
-FRAME_PROP = "lightfade_frame_images"
 #: Names of the frame branch's nodes (the switch, :data:`..source.FRAME_MIX`, is named
 #: there: the colour BSDF is found through its live side).
 FRAME_BSDF = "LightFade Frame BSDF"
 FRAME_IMAGE = "LightFade Frame Image"
 FRAME_UV = "LightFade Frame UV"
-FRAME_FAC = "LightFade Frame On"
-FRAME_AGED = "LightFade Frame Years"
 #: Prefix of the frame images.
 FRAME_PREFIX = "LF_Frame_"
 
@@ -70,37 +66,7 @@ def _new_image(copy):
     return image
 
 
-def _factor(tree, zero_years, at):
-    """``FRAME_PROP`` (× ``years > 0`` with ``zero_years``): exactly 0 or 1."""
-    x, y = at
-    on = tree.nodes.new("ShaderNodeAttribute")
-    on.name = on.label = FRAME_FAC
-    on.attribute_type, on.attribute_name = "VIEW_LAYER", FRAME_PROP
-    on.location = (x, y + 600)
-    if not zero_years:
-        return on.outputs["Fac"]
-    aged = tree.nodes.get(GATE_AGED)
-    if aged is None:
-        years = tree.nodes.new("ShaderNodeAttribute")
-        years.name = years.label = FRAME_AGED
-        years.attribute_type, years.attribute_name = "VIEW_LAYER", YEARS_PROP
-        years.location = (x, y + 750)
-        aged = tree.nodes.new("ShaderNodeMath")
-        aged.name = aged.label = FRAME_AGED + " Above Zero"
-        aged.operation = "GREATER_THAN"
-        aged.location = (x + 150, y + 750)
-        tree.links.new(years.outputs["Fac"], aged.inputs[0])
-        aged.inputs[1].default_value = 0.0
-    both = tree.nodes.new("ShaderNodeMath")
-    both.name = both.label = FRAME_FAC + " And Aged"
-    both.operation = "MULTIPLY"
-    both.location = (x + 300, y + 650)
-    tree.links.new(on.outputs["Fac"], both.inputs[0])
-    tree.links.new(aged.outputs[0], both.inputs[1])
-    return both.outputs[0]
-
-
-def add_branch(copy, colour, interpolation="Linear", extension="EXTEND", zero_years=True):
+def add_branch(copy, colour, interpolation="Linear", extension="EXTEND"):
     """Give ``copy`` its frame branch (see the module docstring) at the BSDF of
     ``colour``; returns the switch's Mix Shader (None where the BSDF reaches no output).
     Idempotent."""
@@ -132,7 +98,7 @@ def add_branch(copy, colour, interpolation="Linear", extension="EXTEND", zero_ye
     mix = tree.nodes.new("ShaderNodeMixShader")
     mix.name = mix.label = FRAME_MIX
     mix.location = (x + 250, y)
-    tree.links.new(_factor(tree, zero_years, (x, y)), mix.inputs["Fac"])
+    mix.inputs["Fac"].default_value = 0.0                 # live, until a render's handler
     for out, links in shaders:
         for link in links:
             tree.links.new(mix.outputs[0], link.to_socket)
@@ -198,41 +164,62 @@ def write_frames(scene, years=None):
     return out
 
 
-def _set(scene, on):
-    if on:
-        scene[FRAME_PROP] = 1.0
-    elif scene.get(FRAME_PROP):
-        scene[FRAME_PROP] = 0.0
+def switches(scene=None):
+    """``[(copy, Mix Shader)]``: the frame switches of the aged copies (of ``scene``)."""
+    from .apply import aged_copies
+
+    copies = aged_copies(scene) if scene is not None else copies_of()
+    return [(c, t.nodes[FRAME_MIX]) for c in copies for t, _n in frame_nodes(c)
+            if t.nodes.get(FRAME_MIX) is not None]
 
 
-#: Scenes switched to their frame images by the render in progress.
-_RENDERING = set()
+def _shows(copy, years):
+    """Whether ``copy`` shows its frame image at ``years``: above 0 years, or at any
+    years for a texture with a history (its 0 years is the restoration); at 0 years
+    otherwise the live side, whose gate passes the original pixel for pixel."""
+    return years > 0 or runtime.material_prior(copy.lightfade.source) is not None
+
+
+def _switch(mix, on):
+    value = 1.0 if on else 0.0
+    if mix.inputs["Fac"].default_value != value:      # an edit recompiles the material
+        mix.inputs["Fac"].default_value = value
+
+
+#: Frame switches turned on by the render in progress: material name -> on.
+_RENDERING = {}
 
 
 @persistent
 def on_render_pre(scene, _more=None):
-    if not any(frame_nodes(c) for c in copies_of()):
+    found = switches(scene)
+    if not found:
         return
+    years = frame_years(scene)
     try:
-        write_frames(scene)
+        write_frames(scene, years)
     except Exception as err:                      # the live material renders instead
         print(f"LightFade: this frame renders the live aging ({err})")
-        _set(scene, False)
+        for _copy, mix in found:
+            _switch(mix, False)
         return
-    _set(scene, True)
-    _RENDERING.add(scene.name)
+    for copy, mix in found:
+        on = _shows(copy, years)
+        _switch(mix, on)
+        _RENDERING[copy.name] = on
 
 
 @persistent
-def on_render_end(scene, _more=None):
-    _set(scene, False)
-    _RENDERING.discard(scene.name)
+def on_render_end(_scene=None, _more=None):
+    for _copy, mix in switches():
+        _switch(mix, False)
+    _RENDERING.clear()
 
 
 @persistent
 def on_save_pre(_dummy=None, _more=None):
-    for scene in bpy.data.scenes:
-        _set(scene, False)
+    for _copy, mix in switches():
+        _switch(mix, False)
     for image in bpy.data.images:
         if image.name.startswith(FRAME_PREFIX) and image.source == "GENERATED" \
                 and tuple(image.size) != (1, 1):
@@ -241,15 +228,13 @@ def on_save_pre(_dummy=None, _more=None):
 
 @persistent
 def on_save_post(_dummy=None, _more=None):
-    for name in _RENDERING:
-        scene = bpy.data.scenes.get(name)
-        if scene is not None:
-            _set(scene, True)
+    for copy, mix in switches():
+        if _RENDERING.get(copy.name):
+            _switch(mix, True)
 
 
 HANDLERS = (
     ("render_pre", on_render_pre),
-    ("render_post", on_render_end),
     ("render_cancel", on_render_end),
     ("render_complete", on_render_end),
     ("save_pre", on_save_pre),

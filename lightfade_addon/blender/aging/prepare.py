@@ -87,7 +87,7 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
             new = runtime.material_prior(material) is None
             gate_rays(copy, plan.colour, scene.lightfade.aged_rays, zero_years=new)
             if not parts.has_parts(material):       # parts render live (their weights bake)
-                frames.add_branch(copy, plan.colour, *sampling(copy), zero_years=new)
+                frames.add_branch(copy, plan.colour, *sampling(copy))
     except BaseException:
         for copy in made:
             remove_aged(copy)
