@@ -185,3 +185,21 @@ def test_reset_removes_the_frame_images(textured):
     assert any(i.name.startswith(frames.FRAME_PREFIX) for i in bpy.data.images)
     assert bpy.ops.lightfade.reset() == {"FINISHED"}
     assert not any(i.name.startswith(frames.FRAME_PREFIX) for i in bpy.data.images)
+
+
+def test_eevee_renders_the_live_material(textured, tmp_path, monkeypatch):
+    """EEVEE evaluates the group at about an image's cost: no frame images for it (a
+    switch flipped per render would recompile its shaders)."""
+    from lightfade_addon.blender.aging import frames
+
+    scene = bpy.context.scene
+    _bake_and_age(years=10)
+    scene.render.engine = "BLENDER_EEVEE_NEXT" if bpy.app.version < (5, 0, 0) else "BLENDER_EEVEE"
+    called = []
+    monkeypatch.setattr(frames, "write_frames", lambda *a, **k: called.append(a))
+    frames.on_render_pre(scene)
+    assert called == [] and switched(frames) == [0.0]
+    scene.render.engine = "CYCLES"
+    frames.on_render_pre(scene)
+    assert len(called) == 1 and switched(frames) == [1.0]
+    frames.on_render_end(scene)

@@ -2,7 +2,7 @@
 
 The aging group costs Cycles far more per shading point than the artist's own
 graph (about forty table and map lookups against one image texture). Where LightFade
-is installed, a render does not need it: before each frame (``render_pre``) the
+is installed, a Cycles render does not need it: before each frame (``render_pre``) the
 numpy twin writes each aged copy's colour at the frame's years into the copy's
 **frame image**, 8-bit sRGB as the artist's textures (:func:`.runtime.aged_rgb`: tens
 of ms per Mtexel once the years range is known; nothing when the image holds that
@@ -190,9 +190,14 @@ def _switch(mix, on):
 _RENDERING = {}
 
 
+#: Engines that render the frame images (EEVEE evaluates the live group at about an
+#: image's cost already, and a switch flipped per render would recompile its shaders).
+FRAME_ENGINES = ("CYCLES",)
+
+
 @persistent
 def on_render_pre(scene, _more=None):
-    found = switches(scene)
+    found = switches(scene) if scene.render.engine in FRAME_ENGINES else []
     if not found:
         return
     years = frame_years(scene)
