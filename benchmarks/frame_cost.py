@@ -23,7 +23,8 @@ Printed:
   frame-image render and the live render (8 × 8-pixel means, same seed) beside the
   same figure for the live render at another seed (the noise floor);
 * **EEVEE** (``--eevee``) — wall seconds of the first and second render after Reset
-  and after Age (frame images), and the compile per aged material.
+  and after Age (EEVEE renders the live material: no frame images for it), and the
+  compile per aged material.
 """
 
 from __future__ import annotations
