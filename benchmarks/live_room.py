@@ -12,7 +12,9 @@ Dyed Fabric), lit by a sun through the open side (daylight) and a ceiling lamp
   (the tables are built) and with a warm one (found on disk), and their ratio;
 * **file** — bytes of the saved file: original, after the bake, after Age; what Age
   added against what the exposure maps added;
-* **render** — Cycles CPU time (process CPU seconds) of the aged room at 25 years and
+* **render** — Cycles CPU time (process CPU seconds) of the live aged room (the frame
+  images' handler taken out: what renders where LightFade is absent;
+  ``benchmarks/frame_cost.py`` measures the frame images) at 25 years and
   of the same render after Reset, two of each (the smaller counts), and their
   ratio, for each *Aged Colour On* setting (the ray gate, :func:`..copies.gate_rays`),
   and at 0 years;
@@ -125,9 +127,18 @@ def render(scene, engine, samples, size, folder, name):
     scene.render.image_settings.file_format = "OPEN_EXR"
     path = os.path.join(folder, name + ".exr")
     scene.render.filepath = path
-    c0, w0 = time.process_time(), time.perf_counter()
-    bpy.ops.render.render(write_still=True)
-    cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+    from lightfade_addon.blender.aging import frames
+
+    live = frames.on_render_pre in bpy.app.handlers.render_pre
+    if live:                                   # the live material (frame_cost.py: the frames)
+        bpy.app.handlers.render_pre.remove(frames.on_render_pre)
+    try:
+        c0, w0 = time.process_time(), time.perf_counter()
+        bpy.ops.render.render(write_still=True)
+        cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+    finally:
+        if live:
+            bpy.app.handlers.render_pre.append(frames.on_render_pre)
     image = bpy.data.images.load(path)
     px = np.empty(len(image.pixels), np.float32)
     image.pixels.foreach_get(px)

@@ -28,7 +28,7 @@ from __future__ import annotations
 import sys
 import time
 
-__all__ = ["ProgressBar", "silent", "scaled", "report"]
+__all__ = ["ProgressBar", "silent", "scaled", "report", "console_after"]
 
 
 def silent(fraction, message=""):
@@ -64,6 +64,40 @@ def scaled(progress, start, stop):
     return inner
 
 
+def console_after(progress, seconds=2.0, label="LightFade", stream=None, clock=time.perf_counter):
+    """``progress`` that also prints one line per new message on the console (``stream``,
+    default ``sys.stderr``) once ``seconds`` have passed since it was made — a job that
+    turns out long says what it does, a quick one stays quiet — unless ``progress``
+    prints lines itself (its ``prints`` attribute, as :class:`ProgressBar`'s).
+
+    Examples
+    --------
+    >>> import io
+    >>> out, now = io.StringIO(), [0.0]
+    >>> say = console_after(None, 2.0, "Age", out, clock=lambda: now[0])
+    >>> say(0.1, "table"); now[0] = 2.5; say(0.5, "group"); say(0.6, "group")
+    >>> out.getvalue()
+    'Age:  50%  group (2.5 s)\\n'
+    """
+    inner = report(progress)
+    if getattr(progress, "prints", False):
+        return inner
+    start = clock()
+    last = [None]
+
+    def say(fraction, message=""):
+        inner(fraction, message)
+        elapsed = clock() - start
+        if elapsed >= seconds and message != last[0]:
+            out = stream if stream is not None else sys.stderr
+            out.write(f"{label}: {min(max(float(fraction), 0.0), 1.0) * 100:3.0f}%  "
+                      f"{message} ({elapsed:.1f} s)\n")
+            out.flush()
+            last[0] = message
+
+    return say
+
+
 class ProgressBar:
     """A ``progress(fraction, message)`` callable drawing on ``stream``.
 
@@ -79,6 +113,9 @@ class ProgressBar:
         Force the redrawn bar (True) or plain lines (False); default: whether
         ``stream`` is a terminal.
     """
+
+    #: It prints (:func:`console_after` adds no lines of its own).
+    prints = True
 
     def __init__(self, label="", stream=None, width=30, tty=None):
         self.label = label

@@ -2,7 +2,7 @@
 
 import io
 
-from lightfade_addon.progress import ProgressBar, report, scaled, silent
+from lightfade_addon.progress import ProgressBar, console_after, report, scaled, silent
 
 
 class TestProgressBar:
@@ -61,3 +61,30 @@ class TestHelpers:
         scaled(None, 0.0, 1.0)(0.5, "nobody listens")
         own = [].append
         assert report(own) is own
+
+
+class TestConsoleAfter:
+    def _clocked(self, progress=None):
+        out, now = io.StringIO(), [0.0]
+        say = console_after(progress, 2.0, "Age", out, clock=lambda: now[0])
+        return say, out, now
+
+    def test_quiet_for_two_seconds_then_a_line_per_new_message(self):
+        seen = []
+        say, out, now = self._clocked(lambda f, m: seen.append(m))
+        say(0.1, "table")
+        now[0] = 1.9
+        say(0.2, "still quick")
+        assert out.getvalue() == ""
+        now[0] = 2.0
+        say(0.5, "group")
+        say(0.6, "group")
+        now[0] = 3.0
+        say(1.0, "done")
+        assert out.getvalue().splitlines() == ["Age:  50%  group (2.0 s)",
+                                               "Age: 100%  done (3.0 s)"]
+        assert seen == ["table", "still quick", "group", "group", "done"]
+
+    def test_a_progress_that_prints_itself_is_not_doubled(self):
+        bar = ProgressBar("x", stream=io.StringIO(), tty=False)
+        assert console_after(bar, 0.0) is bar

@@ -4,6 +4,8 @@
 * ``save_pre`` (persistent): LightFade's images (aging data, baked albedo, applied
   pixels) are packed, so that the .blend alone renders the same frames anywhere,
   with or without the extension; keys on the years are made linear.
+* ``render_pre`` … ``save_post`` (persistent): aged copies render their frame images
+  where LightFade is installed (:mod:`.aging.frames`).
 * ``depsgraph_update_post`` (persistent): after a change to an action (a key inserted
   with *I*), the years' Bezier keys become linear (:func:`.years.linear_keys`); any
   other update returns at once.
@@ -17,7 +19,7 @@ Handlers are added and removed exactly once each (:func:`register`/:func:`unregi
 import bpy
 from bpy.app.handlers import persistent
 
-from .aging import runtime
+from .aging import frames, runtime
 from .aging.data import PREFIXES
 from .albedo import ALBEDO_PREFIX
 from .aging.apply import APPLIED_PREFIX
@@ -28,6 +30,7 @@ from .aging.years import linear_keys
 @persistent
 def on_load(_dummy=None, _more=None):
     runtime.clear()
+    frames.forget()
 
 
 @persistent
@@ -53,6 +56,7 @@ HANDLERS = (
     (bpy.app.handlers.load_post, on_load),
     (bpy.app.handlers.save_pre, on_save),
     (bpy.app.handlers.depsgraph_update_post, on_depsgraph),
+    *((getattr(bpy.app.handlers, name), fn) for name, fn in frames.HANDLERS),
 )
 
 
@@ -67,3 +71,4 @@ def unregister():
         while fn in handler_list:
             handler_list.remove(fn)
     runtime.clear()
+    frames.forget()

@@ -42,6 +42,29 @@ def readable_colourspace(image):
     return name in SRGB_SPACES or name in LINEAR_SPACES
 
 
+#: Linear value of each 8-bit sRGB code (float32), made on first use.
+_SRGB_CODES = []
+
+
+def decode_srgb_bytes(values):
+    """Linear float32 of sRGB byte values read as floats (``code / 255``, as Blender
+    hands byte pixels out), through a 256-entry table of :func:`srgb_decode`: the
+    same numbers, without a power per texel."""
+    if not _SRGB_CODES:
+        _SRGB_CODES.append(srgb_decode(np.arange(256) / 255.0).astype(np.float32))
+    codes = np.rint(np.clip(values, 0.0, 1.0) * np.float32(255.0)).astype(np.uint8)
+    return _SRGB_CODES[0][codes]
+
+
+def encode_srgb(linear):
+    """sRGB-encoded float32 of linear values in [0, 1] (IEC 61966-2-1, as
+    :func:`..core.colour.colorimetry.srgb_encode`, in float32 without a copy to float64):
+    what a byte image in an sRGB colour space is given, Blender rounding it to a code."""
+    x = np.clip(np.asarray(linear, dtype=np.float32), 0.0, 1.0)
+    high = np.float32(1.055) * np.power(x, np.float32(1.0 / 2.4)) - np.float32(0.055)
+    return np.where(x <= np.float32(0.0031308), np.float32(12.92) * x, high)
+
+
 def read_linear(image):
     """(H, W, 4) float32 of an image's colour in linear Rec.709 (alpha as stored).
 
@@ -50,7 +73,7 @@ def read_linear(image):
     """
     rgba = read_rgba(image)
     if not image.is_float and image.colorspace_settings.name.lower() in SRGB_SPACES:
-        rgba[..., :3] = srgb_decode(np.clip(rgba[..., :3], 0.0, 1.0))
+        rgba[..., :3] = decode_srgb_bytes(rgba[..., :3])
     return rgba
 
 

@@ -27,6 +27,7 @@ class WindowProgress:
         self._wm = context.window_manager
         self._workspace = getattr(context, "workspace", None) if self._ui else None
         self._bar = None if self._ui else ProgressBar(f"{label}:", tty=False)
+        self.prints = self._bar is not None          # lines of its own (background)
         if self._ui:
             self._wm.progress_begin(0, _STEPS)
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import bpy
 
-from .aging import data as agingdata, parts, runtime
+from .aging import data as agingdata, frames, parts, runtime
 from .albedo import ALBEDO_PREFIX
 from .aging.copies import copies_of, remove_copy
 from .daylight.view import clear_view
@@ -21,6 +21,7 @@ from .aging.grids import purge
 def remove_aged(copy):
     """Remove one aged copy: slots restored, its images (if nothing else uses them) gone."""
     runtime.forget(copy)
+    frames.remove_frame_images(copy)
     parts.remove(copy)
     props = copy.lightfade
     props.table_image = None

@@ -83,6 +83,9 @@ def _upstream(socket):
 #: The Mix Shader of an aged copy's ray gate (:func:`.aging.copies.gate_rays`): its
 #: second shader is the aged BSDF, its first a duplicate with the original colour.
 GATE_MIX = "LightFade Ray Gate"
+#: The Mix Shader of an aged copy's frame switch (:func:`.aging.frames.add_branch`): its
+#: first shader is the live one, its second the BSDF fed by the frame image.
+FRAME_MIX = "LightFade Frame Switch"
 
 
 def _group_output(tree):
@@ -111,6 +114,8 @@ def _walk(socket, groups, depth):
         return [(groups, node)]
     if node.type == "MIX_SHADER" and node.name == GATE_MIX:
         return _walk(node.inputs[2], groups, depth)
+    if node.type == "MIX_SHADER" and node.name == FRAME_MIX:
+        return _walk(node.inputs[1], groups, depth)
     if node.type == "MIX_SHADER":
         return _walk(node.inputs[1], groups, depth) + _walk(node.inputs[2], groups, depth)
     if node.type == "ADD_SHADER":

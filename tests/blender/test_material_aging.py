@@ -285,6 +285,50 @@ def test_apply_then_live_aging_round_trip(textured):
     assert original.inputs["Base Color"].links[0].from_node.type == "TEX_IMAGE"
 
 
+def _plain_evaluation(scene, copy, years):
+    """The copy's aged pixels by the plain numpy evaluator (nothing kept between calls)."""
+    from lightfade_addon.blender.aging import data as agingdata, runtime
+    from lightfade_addon.core.aging.colourtable import evaluate
+
+    original = runtime.original_rgba(copy, (1, 1))
+    H, W = original.shape[:2]
+    flat = original.reshape(-1, 4).copy()
+    table = runtime.evaluator(copy)
+    inputs, _keys = agingdata.map_inputs(scene, copy.lightfade.aged_object)
+    evaluate(table, flat[:, :3], agingdata.rates(inputs, table.S, (H, W)), years, out=flat)
+    return flat.reshape(H, W, 4)
+
+
+def test_applied_images_follow_years_painting_and_exposure(textured):
+    """What Apply keeps per texel between calls (doses, the change around the last
+    years) never shows through: each Apply equals the plain evaluator after a years
+    change, after the artist paints the texture and after the exposure changes."""
+    from lightfade_addon import api
+
+    _bake_and_age(years=12)
+    scene = bpy.context.scene
+    copy = the_copy(textured["material"])
+    for years in (12.0, 12.0, 13.0, 2.0):
+        api.apply_aging(scene, years)
+        np.testing.assert_allclose(rgba(copy.lightfade.aged_image),
+                                   _plain_evaluation(scene, copy, years), atol=2e-5)
+    albedo = copy.lightfade.albedo
+    px = rgba(albedo)
+    px[..., :3] = px[..., :3][::-1, ::-1]                      # painted over
+    albedo.pixels.foreach_set(px.ravel())
+    api.apply_aging(scene, 2.0)
+    np.testing.assert_allclose(rgba(copy.lightfade.aged_image),
+                               _plain_evaluation(scene, copy, 2.0), atol=2e-5)
+    exposure = copy.lightfade.aged_object.lightfade.exposure_maps[0].image
+    lux = rgba(exposure)
+    lux[..., :3] *= 4.0
+    exposure.pixels.foreach_set(lux.ravel())
+    exposure["lightfade_bake_id"] = int(exposure.get("lightfade_bake_id", 0)) + 1  # a re-bake
+    api.apply_aging(scene, 2.0)
+    np.testing.assert_allclose(rgba(copy.lightfade.aged_image),
+                               _plain_evaluation(scene, copy, 2.0), atol=2e-5)
+
+
 def test_zero_years_is_exact_on_overlapping_out_of_range_uvs_and_procedurals(blender, lf,
                                                                               tmp_path):
     """A tiled text-like texture (UVs far outside 0–1, every face on the same UV square:

@@ -60,3 +60,15 @@ def test_only_srgb_linear_rec709_and_data_byte_images_are_read_directly(blender)
         if name in spaces:
             image.colorspace_settings.name = name
             assert readable_colourspace(image) == readable, name
+
+
+def test_srgb_codes_and_encoding_match_the_colour_science_functions():
+    """The byte decoding table and the float32 encoder are IEC 61966-2-1 (colour-science)."""
+    from lightfade_addon.blender.pixels import decode_srgb_bytes, encode_srgb
+    from lightfade_addon.core.colour.colorimetry import srgb_decode, srgb_encode
+
+    codes = np.arange(256, dtype=np.float32) / np.float32(255.0)
+    np.testing.assert_array_equal(decode_srgb_bytes(codes),
+                                  srgb_decode(np.arange(256) / 255.0).astype(np.float32))
+    linear = np.linspace(0.0, 1.0, 10001, dtype=np.float32)
+    np.testing.assert_allclose(encode_srgb(linear), srgb_encode(linear.astype(float)), atol=2e-6)

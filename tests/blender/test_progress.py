@@ -75,3 +75,20 @@ def test_the_indicator_ends_on_error(monkeypatch):
             raise RuntimeError("bake failed")
     assert context.window_manager.calls[-1] == ("end",)
     assert context.workspace.status[-1] is None
+
+
+def test_a_long_age_says_what_it_does_on_the_console(floor_scene, monkeypatch, capsys):
+    """Age through the API (no progress of the caller's) prints its steps once it has
+    run two seconds (here made zero)."""
+    from lightfade_addon import api
+    from lightfade_addon import progress as core_progress
+    from lightfade_addon.blender.aging import prepare
+
+    real = core_progress.console_after
+    monkeypatch.setattr(prepare, "console_after",
+                        lambda progress, seconds, label: real(progress, 0.0, label))
+    api.bake(bpy.context.scene)
+    capsys.readouterr()
+    api.age_scene(bpy.context.scene, years=3)
+    err = capsys.readouterr().err.splitlines()
+    assert any(line.startswith("LightFade Age:") and "aged 1 material" in line for line in err)

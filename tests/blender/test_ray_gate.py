@@ -23,7 +23,14 @@ def _age(rays, years=25):
 
 
 def _feed(socket):
-    return socket.links[0].from_node if socket.links else None
+    """The node feeding ``socket``; through the frame switch, its live side
+    (blender/aging/frames.py)."""
+    from lightfade_addon.blender.source import FRAME_MIX
+
+    node = socket.links[0].from_node if socket.links else None
+    if node is not None and node.name == FRAME_MIX:
+        return _feed(node.inputs[1])
+    return node
 
 
 @pytest.mark.parametrize("rays, output", [("VISIBLE", "Is Diffuse Ray"),

@@ -245,7 +245,7 @@ def test_the_slider_runs_no_aging_code(carpet, monkeypatch):
     """A years change is one write of the scene's custom property: nothing is prepared,
     no pixel is written (the material evaluates the years)."""
     from lightfade_addon import api
-    from lightfade_addon.blender.aging import apply, runtime
+    from lightfade_addon.blender.aging import runtime
     from lightfade_addon.blender.aging.years import YEARS_PROP
 
     scene = bpy.context.scene
@@ -255,7 +255,7 @@ def test_the_slider_runs_no_aging_code(carpet, monkeypatch):
         raise AssertionError("a years change ran aging code")
 
     monkeypatch.setattr(runtime, "prepare", refuse)
-    monkeypatch.setattr(apply, "evaluate", refuse)
+    monkeypatch.setattr(runtime, "aged_rgb", refuse)
     scene.lightfade.years = 30
     assert scene[YEARS_PROP] == 30.0
     assert api.set_years(scene, 45) >= 0 and scene[YEARS_PROP] == 45.0

@@ -20,7 +20,7 @@ import time
 import bpy
 import numpy as np
 
-from . import data as agingdata, parts, runtime
+from . import parts, runtime
 from ..albedo import albedo_image, bake_albedos
 from ..bake.emitters import remembered
 from .copies import APPLIED_NAME, GROUP_NODE, copies_of, walk
@@ -31,7 +31,6 @@ from ..pixels import write_rgba
 from ..source import find_colour_socket
 from .years import get_years, write_years
 from ...core.colour.colorimetry import srgb_encode
-from ...core.aging.colourtable import evaluate
 from .group import GROUP_VERSION
 from ..part_properties import parts_digest
 
@@ -107,6 +106,13 @@ def _extension(copy):
     return "EXTEND"
 
 
+def sampling(copy):
+    """``(interpolation, extension)`` aged images of ``copy`` are read with: the user's
+    image's on the direct path, else Linear and Extend."""
+    user = _user_image_node(copy)
+    return (user.interpolation if user is not None else "Linear"), _extension(copy)
+
+
 def update_scene(scene, years=None, report=print):
     """Show ``years`` (default: the scene's) on every aged copy; seconds taken.
 
@@ -173,12 +179,7 @@ def aged_pixels(scene, copy, years):
     original = original_pixels(scene, copy)
     if len(copy.lightfade.lanes):                    # several recipes by mask
         return parts.aged_pixels(scene, _view_layer(scene), copy, original, years)
-    table = runtime.evaluator(copy)
-    H, W = original.shape[:2]
-    rgba = original.reshape(H * W, 4).copy()
-    inputs, _keys = agingdata.map_inputs(scene, copy.lightfade.aged_object)
-    evaluate(table, rgba[:, :3], agingdata.rates(inputs, table.S, (H, W)), years, out=rgba)
-    return rgba.reshape(H, W, 4)
+    return runtime.aged_rgb(scene, copy, original, years)
 
 
 def apply_copy(scene, copy, years):
@@ -212,9 +213,7 @@ def apply_copy(scene, copy, years):
             tree.links.new(uv.outputs["UV"], applied.inputs["Vector"])
         tree.nodes[APPLIED_NAME + " UV"].uv_map = props.uv_map
         applied.image = image
-        user = _user_image_node(copy)                # sampled as the user's image is
-        applied.interpolation = user.interpolation if user is not None else "Linear"
-        applied.extension = _extension(copy)
+        applied.interpolation, applied.extension = sampling(copy)   # as the user's image
         tree.links.new(applied.outputs["Color"], socket)
     return image
 

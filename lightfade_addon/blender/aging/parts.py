@@ -37,7 +37,6 @@ from __future__ import annotations
 import bpy
 import numpy as np
 
-from ...core.aging.colourtable import evaluate
 from . import data as agingdata, runtime
 from ..albedo import bake_albedos
 from .copies import GROUP_NODE, TREE_TAG, insert_group, walk
@@ -369,12 +368,9 @@ def aged_pixels(scene, view_layer, copy, original, years):
     H, W = original.shape[:2]
     ensure_weights(scene, view_layer, copy, (H, W))
     rgba = original.reshape(H * W, 4).copy()
-    inputs, _keys = agingdata.map_inputs(scene, copy.lightfade.aged_object)
     aged, weights = [], []
     for k, lane in enumerate(lanes):
-        table = runtime.evaluator(copy, lane)
-        a = rgba.copy()
-        evaluate(table, a[:, :3], agingdata.rates(inputs, table.S, (H, W)), years, out=a)
+        a = runtime.aged_rgb(scene, copy, original.copy(), years, lane).reshape(H * W, 4)
         aged.append(a[:, :3])
         w = read_rgba(lane.weight_image)[..., k % PER_IMAGE]
         weights.append(np.clip(w, 0.0, 1.0).reshape(-1).astype(np.float32))

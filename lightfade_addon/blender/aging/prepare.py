@@ -17,10 +17,12 @@ from __future__ import annotations
 
 import bpy
 
-from . import data as agingdata, parts, runtime
+from . import data as agingdata, frames, parts, runtime
+from .apply import sampling
 from .copies import assign, copies_of, gate_rays, make_copy
 from .years import write_years
 from ..errors import AgingError, check_years
+from ...progress import console_after
 from ..exposure import exposure_uv
 from .grids import purge
 from ..reset import remove_aged
@@ -63,7 +65,7 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
     plans, problems = check(scene, pairs)
     if problems:
         raise AgingError(format_problems(problems))
-    say = progress or (lambda f, m: None)
+    say = console_after(progress, 2.0, "LightFade Age")    # a long Age says what it does
     for obj, material in pairs:
         for old in copies_of(material, obj):
             remove_aged(old)
@@ -82,8 +84,10 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
                 parts.prepare(scene, copy, plan.colour, step)
             else:
                 runtime.prepare(scene, copy, plan.colour, step)
-            gate_rays(copy, plan.colour, scene.lightfade.aged_rays,
-                      zero_years=runtime.material_prior(material) is None)
+            new = runtime.material_prior(material) is None
+            gate_rays(copy, plan.colour, scene.lightfade.aged_rays, zero_years=new)
+            if not parts.has_parts(material):       # parts render live (their weights bake)
+                frames.add_branch(copy, plan.colour, *sampling(copy))
     except BaseException:
         for copy in made:
             remove_aged(copy)

@@ -200,37 +200,66 @@ def coordinates(table, rgb, unmix=None):
     return np.clip(y, 0.0, 1.0) ** np.float32(1.0 / table.power) * np.float32(table.side - 1)
 
 
-def _change(table, values, u, rates, years):
-    """``change`` (n, 3) float32 at node coordinates ``u`` (n, 3) (:func:`coordinates`),
-    ``rates`` (S, n); ``values`` is ``table.values`` as float32."""
+def mix_vertices(table, rates):
+    """Light-mix slots and weights of texels lit by ``rates`` (S, n) lux·h:
+    ``(slots (n, V) int32, weights (n, V) float32)``, weights None for one spectrum
+    (:func:`.table.simplex_slots` of the spectra's shares; no light: spectrum 0)."""
+    total = rates.sum(axis=0)
+    if table.S == 1:
+        return np.zeros((rates.shape[1], 1), np.int32), None
+    with np.errstate(invalid="ignore", divide="ignore"):
+        w = np.where(total > 0, rates / total, 0.0).T.astype(np.float32)
+    w[total <= 0, 0] = 1.0
+    return simplex_slots(w, table.q)
+
+
+def change_nodes(table, values, u, slots, weights, t0):
+    """The change at dose nodes ``t0`` and ``t0 + 1`` (two (n, 3) float32 arrays) of
+    texels at node coordinates ``u`` (n, 3) (:func:`coordinates`), light-mix ``slots``,
+    ``weights`` (:func:`mix_vertices`); ``t0`` (n,) int, at most ``T - 2``. ``values``
+    is ``table.values`` as float32. Per vertex, bilinear over k1, k2 (a Linear image
+    lookup), linear over k3; weighted over the vertices."""
     N, T = table.side, table.T
     b0 = np.minimum(np.floor(u[:, 2]), N - 2).astype(np.int32)
     fb = (u[:, 2] - b0)[:, None]
-    total = rates.sum(axis=0)
-    s = dose_position(total * np.float32(years), table.low_dose, table.per_decade, T)
-    t0 = np.minimum(np.floor(s), T - 2).astype(np.int32)
-    ft = (s - t0)[:, None]
-    if table.S == 1:
-        slots, weights = np.zeros((len(u), 1), np.int32), None
-    else:
-        with np.errstate(invalid="ignore", divide="ignore"):
-            w = np.where(total > 0, rates / total, 0.0).T.astype(np.float32)
-        w[total <= 0, 0] = 1.0
-        slots, weights = simplex_slots(w, table.q)
-    change = np.zeros((len(u), 3), dtype=np.float32)
     cells = values.reshape(-1, 3)
-
-    def bilinear(tile):                          # a Linear image lookup
-        return _bilinear(cells, N, tile, u[:, 0], u[:, 1])
-
+    t0 = np.asarray(t0, dtype=np.int32)
+    nodes = [np.zeros((len(u), 3), dtype=np.float32), np.zeros((len(u), 3), dtype=np.float32)]
     for v in range(slots.shape[1]):
-        corner = [bilinear((slots[:, v] * T + t0 + dt) * N + b0 + db)
-                  for dt in (0, 1) for db in (0, 1)]
-        lo_t = corner[0] + fb * (corner[1] - corner[0])
-        hi_t = corner[2] + fb * (corner[3] - corner[2])
-        step = lo_t + ft * (hi_t - lo_t)
-        change += step if weights is None else step * weights[:, v:v + 1]
-    return change
+        for dt, node in enumerate(nodes):
+            row = (slots[:, v] * T + t0 + dt) * N + b0
+            lo = _bilinear(cells, N, row, u[:, 0], u[:, 1])
+            hi = _bilinear(cells, N, row + 1, u[:, 0], u[:, 1])
+            step = lo + fb * (hi - lo)
+            node += step if weights is None else step * weights[:, v:v + 1]
+    return nodes
+
+
+def dose_node(table, total, years):
+    """``(t0, ft)``: the dose node below and the fraction past it of texels receiving
+    ``total`` lux·h a year after ``years`` (:func:`dose_position`)."""
+    s = dose_position(total * np.float32(years), table.low_dose, table.per_decade, table.T)
+    t0 = np.minimum(np.floor(s), table.T - 2).astype(np.int32)
+    return t0, (s - t0)[:, None]
+
+
+def _change(table, values, u, rates, years):
+    """``change`` (n, 3) float32 at node coordinates ``u`` (n, 3) (:func:`coordinates`),
+    ``rates`` (S, n); ``values`` is ``table.values`` as float32."""
+    slots, weights = mix_vertices(table, rates)
+    t0, ft = dose_node(table, rates.sum(axis=0), years)
+    lo, hi = change_nodes(table, values, u, slots, weights, t0)
+    return lo + ft * (hi - lo)
+
+
+def aged_colour(rgb, change, out):
+    """``into_gamut(M⁻¹ · (M · rgb) · exp(change))`` of (n, 3) linear colours into the
+    first three channels of ``out`` (n, >= 3)."""
+    aged = (rgb @ _to_XYZ().T) * np.exp(change)
+    planes = np.ascontiguousarray((aged @ _to_rgb().T).T)
+    into_gamut_planes(planes)
+    out[:, :3] = planes.T
+    return out
 
 
 def evaluate(table, rgb, rates, years, out=None):
@@ -260,7 +289,6 @@ def evaluate(table, rgb, rates, years, out=None):
     if years == 0 and not table.history:
         res[:, :3] = rgb
         return res
-    to_XYZ, to_rgb = _to_XYZ(), _to_rgb()
     values = table.values.astype(np.float32)
     unmix = table.unmix.astype(np.float32)
 
@@ -269,10 +297,7 @@ def evaluate(table, rgb, rates, years, out=None):
         c = rgb[s0:s1]
         change = _change(table, values, coordinates(table, c, unmix), rates[:, s0:s1],
                          float(years))
-        aged = (c @ to_XYZ.T) * np.exp(change)
-        planes = np.ascontiguousarray((aged @ to_rgb.T).T)
-        into_gamut_planes(planes)
-        res[s0:s1, :3] = planes.T
+        aged_colour(c, change, res[s0:s1])
 
     in_blocks(block, n, _BLOCK, _THREADS)
     return res

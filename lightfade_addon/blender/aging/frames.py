@@ -1,0 +1,261 @@
+"""Renders where LightFade is installed read aged images written for the frame.
+
+The aging group costs Cycles far more per shading point than the artist's own
+graph (about forty table and map lookups against one image texture). Where LightFade
+is installed, a Cycles render does not need it: before each frame (``render_pre``) the
+numpy twin writes each aged copy's colour at the frame's years into the copy's
+**frame image**, 8-bit sRGB as the artist's textures (:func:`.runtime.aged_rgb`: tens
+of ms per Mtexel once the years range is known; nothing when the image holds that
+colour already), and the copy shows a BSDF fed by that image instead of the live one.
+
+Each copy's tree gets, beside the live BSDF (and its gate), a **frame branch**: a
+duplicate of the colour BSDF whose colour is an Image Texture of the frame image in
+the copy's exposure UV map (interpolation and extension as the artist's image), and a
+Mix Shader (:data:`..source.FRAME_MIX`) choosing between the live shader (factor 0)
+and it (factor 1). The factor is a constant, 0 in the file: the handler sets it to 1
+for the render (where the copy is aged: years above 0, or a texture with a history),
+so Cycles' constant folding removes the live branch from the compiled shader — its
+nodes, and the table, exposure maps and artist's colour textures it alone reads are
+not even loaded — and the frame costs an image texture where the original read one.
+
+The factors are 1 only between ``render_pre`` and the end of the render
+(``render_complete``, ``render_cancel``; an animation keeps them on from frame to
+frame) and are never saved so (``save_pre`` sets them to 0, ``save_post`` puts them
+back during a render); the frame images are *generated* images (nothing of them is
+saved) shrunk to one texel when saved. So a saved file opened anywhere, with or
+without LightFade, renders the live material, and the viewport always shows it.
+"""
+
+from __future__ import annotations
+
+import bpy
+from bpy.app.handlers import persistent
+
+from . import runtime
+from ..pixels import encode_srgb
+from .copies import _colour_socket, _duplicate, copies_of
+from .years import get_years, years_fcurve
+from ..source import FRAME_MIX, GATE_MIX
+
+#: Names of the frame branch's nodes (the switch, :data:`..source.FRAME_MIX`, is named
+#: there: the colour BSDF is found through its live side).
+FRAME_BSDF = "LightFade Frame BSDF"
+FRAME_IMAGE = "LightFade Frame Image"
+FRAME_UV = "LightFade Frame UV"
+#: Prefix of the frame images.
+FRAME_PREFIX = "LF_Frame_"
+
+
+def frame_nodes(copy):
+    """``[(tree, image node)]`` of the copy's frame branch (none before Age made it)."""
+    from .copies import walk
+
+    return [(t, n) for t, n in walk(copy.node_tree) if n.name == FRAME_IMAGE]
+
+
+def frame_image(copy):
+    nodes = frame_nodes(copy)
+    return nodes[0][1].image if nodes else None
+
+
+def _new_image(copy):
+    """An 8-bit sRGB generated image, as the artist's textures are: the frame reads as
+    many bytes as the original does (a float image: four times as many)."""
+    image = bpy.data.images.new(FRAME_PREFIX + copy.name, 1, 1, alpha=True, float_buffer=False)
+    image.colorspace_settings.name = "sRGB"
+    return image
+
+
+def add_branch(copy, colour, interpolation="Linear", extension="EXTEND"):
+    """Give ``copy`` its frame branch (see the module docstring) at the BSDF of
+    ``colour``; returns the switch's Mix Shader (None where the BSDF reaches no output).
+    Idempotent."""
+    tree, socket = _colour_socket(copy, colour)
+    if tree.nodes.get(FRAME_MIX) is not None:
+        return tree.nodes[FRAME_MIX]
+    bsdf = tree.nodes[colour.node]
+    live = tree.nodes.get(GATE_MIX) or bsdf
+    shaders = [(out, list(out.links)) for out in live.outputs if out.type == "SHADER"]
+    if not any(links for _o, links in shaders):
+        return None
+    x, y = live.location
+    used = shaders[0][0] if live == bsdf else next(      # the BSDF's output in use
+        o for o in bsdf.outputs if o.type == "SHADER" and o.links)
+    frame = _duplicate(tree, bsdf)
+    frame.name = frame.label = FRAME_BSDF
+    frame.location = (bsdf.location.x, bsdf.location.y - 700)
+    image = tree.nodes.new("ShaderNodeTexImage")
+    image.name = image.label = FRAME_IMAGE
+    image.image = _new_image(copy)
+    image.interpolation, image.extension = interpolation, extension
+    image.location = (frame.location.x - 300, frame.location.y)
+    uv = tree.nodes.new("ShaderNodeUVMap")
+    uv.name = uv.label = FRAME_UV
+    uv.uv_map = copy.lightfade.uv_map
+    uv.location = (image.location.x - 200, image.location.y)
+    tree.links.new(uv.outputs["UV"], image.inputs["Vector"])
+    tree.links.new(image.outputs["Color"], frame.inputs[list(bsdf.inputs).index(socket)])
+    mix = tree.nodes.new("ShaderNodeMixShader")
+    mix.name = mix.label = FRAME_MIX
+    mix.location = (x + 250, y)
+    mix.inputs["Fac"].default_value = 0.0                 # live, until a render's handler
+    for out, links in shaders:
+        for link in links:
+            tree.links.new(mix.outputs[0], link.to_socket)
+    tree.links.new(shaders[0][0], mix.inputs[1])                           # Fac 0: live
+    tree.links.new(frame.outputs[used.identifier], mix.inputs[2])         # Fac 1: frame
+    return mix
+
+
+# ----------------------------------------------------------------------- per frame
+
+
+def frame_years(scene):
+    """The years of the frame being rendered: the keyed F-curve at the scene's frame
+    (the render's frame is set on the scene; its animation is evaluated on the
+    render's own copy), else the scene's years."""
+    curve = years_fcurve(scene)
+    if curve is not None:
+        return max(0.0, float(curve.evaluate(scene.frame_current + scene.frame_subframe)))
+    return get_years(scene)
+
+
+#: What each frame image holds: image pointer -> (twin key, years, size).
+_WRITTEN = {}
+
+
+def write_frame(scene, copy, years):
+    """Write ``copy``'s aged colour at ``years`` into its frame image (at the texture's
+    resolution), unless it holds exactly that already; returns the image (None
+    without a frame branch)."""
+    from .apply import original_pixels
+
+    image = frame_image(copy)
+    if image is None:
+        return None
+    rgba = original_pixels(scene, copy)
+    H, W = rgba.shape[:2]
+    key = runtime.twin_key(scene, copy, rgba)
+    held = (key, float(years), (W, H))
+    if tuple(image.size) == (W, H) and _WRITTEN.get(image.as_pointer()) == held:
+        return image
+    runtime.aged_rgb(scene, copy, rgba, years, key=key)
+    if tuple(image.size) != (W, H):
+        image.generated_width, image.generated_height = W, H
+    rgba[..., :3] = encode_srgb(rgba[..., :3])
+    image.pixels.foreach_set(rgba.reshape(-1))
+    image.update()
+    image["lightfade_years"] = float(years)
+    _WRITTEN[image.as_pointer()] = held
+    return image
+
+
+def write_frames(scene, years=None):
+    """Every aged copy of ``scene`` with a frame branch gets its frame image at
+    ``years`` (default: the frame's); returns {copy name: image}."""
+    from .apply import aged_copies
+
+    years = frame_years(scene) if years is None else float(years)
+    out = {}
+    for copy in aged_copies(scene):
+        image = write_frame(scene, copy, years)
+        if image is not None:
+            out[copy.name] = image
+    return out
+
+
+def switches(scene=None):
+    """``[(copy, Mix Shader)]``: the frame switches of the aged copies (of ``scene``)."""
+    from .apply import aged_copies
+
+    copies = aged_copies(scene) if scene is not None else copies_of()
+    return [(c, t.nodes[FRAME_MIX]) for c in copies for t, _n in frame_nodes(c)
+            if t.nodes.get(FRAME_MIX) is not None]
+
+
+def _shows(copy, years):
+    """Whether ``copy`` shows its frame image at ``years``: above 0 years, or at any
+    years for a texture with a history (its 0 years is the restoration); at 0 years
+    otherwise the live side, whose gate passes the original pixel for pixel."""
+    return years > 0 or runtime.material_prior(copy.lightfade.source) is not None
+
+
+def _switch(mix, on):
+    value = 1.0 if on else 0.0
+    if mix.inputs["Fac"].default_value != value:      # an edit recompiles the material
+        mix.inputs["Fac"].default_value = value
+
+
+#: Frame switches turned on by the render in progress: material name -> on.
+_RENDERING = {}
+
+
+#: Engines that render the frame images (EEVEE evaluates the live group at about an
+#: image's cost already, and a switch flipped per render would recompile its shaders).
+FRAME_ENGINES = ("CYCLES",)
+
+
+@persistent
+def on_render_pre(scene, _more=None):
+    found = switches(scene) if scene.render.engine in FRAME_ENGINES else []
+    if not found:
+        return
+    years = frame_years(scene)
+    try:
+        write_frames(scene, years)
+    except Exception as err:                      # the live material renders instead
+        print(f"LightFade: this frame renders the live aging ({err})")
+        for _copy, mix in found:
+            _switch(mix, False)
+        return
+    for copy, mix in found:
+        on = _shows(copy, years)
+        _switch(mix, on)
+        _RENDERING[copy.name] = on
+
+
+@persistent
+def on_render_end(_scene=None, _more=None):
+    for _copy, mix in switches():
+        _switch(mix, False)
+    _RENDERING.clear()
+
+
+@persistent
+def on_save_pre(_dummy=None, _more=None):
+    for _copy, mix in switches():
+        _switch(mix, False)
+    for image in bpy.data.images:
+        if image.name.startswith(FRAME_PREFIX) and image.source == "GENERATED" \
+                and tuple(image.size) != (1, 1):
+            image.generated_width = image.generated_height = 1
+
+
+@persistent
+def on_save_post(_dummy=None, _more=None):
+    for copy, mix in switches():
+        if _RENDERING.get(copy.name):
+            _switch(mix, True)
+
+
+HANDLERS = (
+    ("render_pre", on_render_pre),
+    ("render_cancel", on_render_end),
+    ("render_complete", on_render_end),
+    ("save_pre", on_save_pre),
+    ("save_post", on_save_post),
+)
+
+
+def forget():
+    """Forget what the frame images hold (file load, unregister)."""
+    _WRITTEN.clear()
+
+
+def remove_frame_images(copy):
+    for _tree, node in frame_nodes(copy):
+        if node.image is not None:
+            _WRITTEN.pop(node.image.as_pointer(), None)
+            bpy.data.images.remove(node.image)
+            node.image = None
+

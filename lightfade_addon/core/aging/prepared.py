@@ -1,0 +1,218 @@
+"""The numpy evaluator with what does not depend on the years done once per texel.
+
+:func:`.colourtable.evaluate` does everything per texel at every call: the unmixing
+``Φ`` over the colour cube (8 gathers), the light-mix vertices, and per vertex the
+change at two dose nodes × two k3 planes, each bilinear (16 gathers): about 40 gathers
+of three floats a texel, 0.5-3 s per Mtexel. Of that, only the dose position depends on
+the years. :class:`PreparedTexels` keeps per texel
+
+* ``total`` — the annual dose, lux·h (the dose axis position is ``years · total``);
+* ``slots``, ``weights`` — the light-mix vertices (two or more spectra);
+* the **band**: the dose node ``t0`` it was last evaluated at and the change there,
+  ``lo = change(t0)``, and to the next node, ``step = change(t0 + 1) - lo``
+  (vertex-mixed and interpolated over the concentration cube, exactly as
+  :func:`.colourtable.change_nodes`).
+
+A years value then costs, per texel, the dose position ``s`` (:func:`.colourtable.
+dose_position`), ``change = lo + (s - t0) · step`` and the colour stage; only texels
+whose node ``t0 = min(floor s, T - 2)`` moved (a new years range: every texel at the
+first call; a step of 0.1 year at 10 years moves about 4 % of them) have their band
+evaluated again, from their colour (unmixing and the four corners per vertex).
+All in float32: 30 bytes a texel for one spectrum, 46 for two.
+
+The result equals :func:`.colourtable.evaluate`'s (the same nodes, the same lerp) to
+float32 rounding; zero years without a history gives the colour itself, as there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .colourtable import _BLOCK, _THREADS, aged_colour, dose_node, mix_vertices
+from .table import in_blocks
+
+__all__ = ["PreparedTexels", "TableCells", "table_cells", "prepare_texels",
+           "evaluate_prepared"]
+
+
+@dataclass(frozen=True)
+class TableCells:
+    """A table's two grids as cells: each row the 8 corners × 3 channels of one cube
+    cell (corner ``(d3, d2, d1)`` at ``4 d3 + 2 d2 + d1``), so that a texel's trilinear
+    lookup is one gather of 24 floats instead of eight of three.
+
+    ``change``: rows ``((slot · T + t) · (N - 1) + k3) · (N - 1)² + k2 · (N - 1) + k1``;
+    ``unmix``: rows ``(b · (A - 1) + g) · (A - 1) + r``.
+    """
+
+    change: np.ndarray
+    unmix: np.ndarray
+
+    @property
+    def nbytes(self):
+        return self.change.nbytes + self.unmix.nbytes
+
+
+def _cells(grid):
+    """(..., M, M, M, 3) nodes -> (prod(...) · (M-1)³, 24) float32 cells."""
+    M = grid.shape[-2]
+    corners = [grid[..., d3:d3 + M - 1, d2:d2 + M - 1, d1:d1 + M - 1, :]
+               for d3 in (0, 1) for d2 in (0, 1) for d1 in (0, 1)]
+    return np.stack(corners, axis=-2).astype(np.float32).reshape(-1, 24)
+
+
+def table_cells(table):
+    """The :class:`TableCells` of a :class:`.colourtable.ColourTable` (float32: a
+    two-spectrum table of 17 nodes and 50 dose nodes takes 59 MB)."""
+    return TableCells(_cells(table.values), _cells(table.unmix))
+
+
+def _trilinear(cells, row, f):
+    """Trilinear lookup: ``cells`` rows ``row`` (m,), fractions ``f`` (m, 3) along the
+    fastest axis first (k1, k2, k3), as the node group (bilinear over the first two,
+    a Linear image lookup, then linear over the third): the 8 corner weights
+    ``Π (1 - f) or f`` times the corners, one small matrix product per texel."""
+    one = 1.0 - f
+    w = np.empty((len(f), 8), dtype=np.float32)
+    for d3 in (0, 1):
+        for d2 in (0, 1):
+            p = (f if d3 else one)[:, 2] * (f if d2 else one)[:, 1]
+            w[:, 4 * d3 + 2 * d2] = p * one[:, 0]
+            w[:, 4 * d3 + 2 * d2 + 1] = p * f[:, 0]
+    g = np.take(cells, row, axis=0).reshape(-1, 8, 3)
+    return (w[:, None, :] @ g)[:, 0]
+
+
+def _cell(x, M):
+    """Cell index below node coordinates ``x`` (m, 3) on ``M`` nodes and the fractions
+    (``min(floor x, M - 2)``, as the evaluator)."""
+    i = np.minimum(np.floor(x), M - 2).astype(np.int32)
+    return (i[:, 2] * (M - 1) + i[:, 1]) * (M - 1) + i[:, 0], x - i
+
+
+def _coordinates(table, cells, rgb):
+    """:func:`.colourtable.coordinates` through the unmixing's cells."""
+    A = table.unmix_side
+    u = np.clip(rgb, 0.0, 1.0) ** np.float32(1.0 / table.gamma) * np.float32(A - 1)
+    row, f = _cell(u, A)
+    y = _trilinear(cells.unmix, row, f)
+    return np.clip(y, 0.0, 1.0) ** np.float32(1.0 / table.power) * np.float32(table.side - 1)
+
+
+def _nodes(table, cells, u, slots, weights, t0):
+    """:func:`.colourtable.change_nodes` through the change's cells."""
+    N, T = table.side, table.T
+    row, f = _cell(u, N)
+    nodes = []
+    for dt in (0, 1):
+        acc = None
+        for v in range(slots.shape[1]):
+            step = _trilinear(cells.change, ((slots[:, v] * T + t0 + dt) * (N - 1) ** 3) + row, f)
+            if weights is not None:
+                step *= weights[:, v:v + 1]
+            acc = step if acc is None else acc + step
+        nodes.append(acc)
+    return nodes
+
+
+@dataclass
+class PreparedTexels:
+    """Per-texel state of the numpy evaluator (see the module docstring).
+
+    Attributes
+    ----------
+    total : ndarray, shape (n,), float32
+        Annual dose, lux·h.
+    slots, weights : ndarray, shape (n, V), int32 and float32; or None
+        Light-mix vertices (None for one spectrum).
+    t0 : ndarray, shape (n,), int16
+        Dose node of the band; -1 where none was evaluated yet.
+    lo : ndarray, shape (n, 3), float32
+        The change at node ``t0``.
+    step : ndarray, shape (n, 3), float32
+        The change at node ``t0 + 1`` minus ``lo``.
+    """
+
+    total: np.ndarray
+    slots: np.ndarray | None
+    weights: np.ndarray | None
+    t0: np.ndarray
+    lo: np.ndarray
+    step: np.ndarray
+
+    @property
+    def n(self):
+        return self.total.shape[0]
+
+    @property
+    def nbytes(self):
+        arrays = (self.total, self.slots, self.weights, self.t0, self.lo, self.step)
+        return sum(a.nbytes for a in arrays if a is not None)
+
+
+def prepare_texels(table, rates):
+    """:class:`PreparedTexels` of texels lit by ``rates`` (S, n) lux·h a year, no band yet."""
+    rates = np.asarray(rates, dtype=np.float32).reshape(table.S, -1)
+    n = rates.shape[1]
+    slots, weights = (None, None) if table.S == 1 else mix_vertices(table, rates)
+    return PreparedTexels(rates.sum(axis=0), slots, weights, np.full(n, -1, np.int16),
+                          np.zeros((n, 3), np.float32), np.zeros((n, 3), np.float32))
+
+
+def _refresh(table, cells, prep, rgb, s0, s1, t0):
+    """Evaluate the band at nodes ``t0`` (block ``s0:s1``) where it is elsewhere."""
+    moved = np.flatnonzero(prep.t0[s0:s1] != t0)
+    if moved.size == 0:
+        return
+    at = moved + s0
+    u = _coordinates(table, cells, rgb[at])
+    if prep.slots is None:
+        slots, weights = np.zeros((moved.size, 1), np.int32), None
+    else:
+        slots, weights = prep.slots[at], prep.weights[at]
+    lo, hi = _nodes(table, cells, u, slots, weights, t0[moved])
+    prep.lo[at] = lo
+    prep.step[at] = hi - lo
+    prep.t0[at] = t0[moved]
+
+
+def evaluate_prepared(table, prep, rgb, years, out=None, cells=None):
+    """Aged linear sRGB of colours ``rgb`` (n, 3) after ``years``: as
+    :func:`.colourtable.evaluate` with the rates of ``prep``, whose band is updated.
+
+    Parameters
+    ----------
+    table : ColourTable
+    prep : PreparedTexels
+        Of the same texels (updated in place).
+    rgb : ndarray, shape (n, 3)
+        Linear sRGB in [0, 1].
+    years : float
+        >= 0.
+    out : ndarray, shape (n, 3) or (n, 4), optional
+        Written in its first three channels.
+    cells : TableCells, optional
+        :func:`table_cells` of ``table`` (made when not given; keep it for the next call).
+    """
+    rgb = np.asarray(rgb, dtype=np.float32).reshape(-1, 3)
+    n = rgb.shape[0]
+    if n != prep.n:
+        raise ValueError(f"{n} colours for {prep.n} prepared texels")
+    res = np.empty((n, 3), dtype=np.float32) if out is None else out
+    if years == 0 and not table.history:
+        res[:, :3] = rgb
+        return res
+    cells = table_cells(table) if cells is None else cells
+
+    def block(s0):
+        s1 = min(s0 + _BLOCK, n)
+        t0, ft = dose_node(table, prep.total[s0:s1], float(years))
+        _refresh(table, cells, prep, rgb, s0, s1, t0)
+        change = prep.step[s0:s1] * ft
+        change += prep.lo[s0:s1]
+        aged_colour(rgb[s0:s1], change, res[s0:s1])
+
+    in_blocks(block, n, _BLOCK, _THREADS)
+    return res

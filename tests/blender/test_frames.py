@@ -1,0 +1,205 @@
+"""Renders where LightFade is installed read aged images written for the frame
+(blender/aging/frames.py); the saved file keeps rendering the live material."""
+
+import numpy as np
+import pytest
+
+from tests.blender.test_material_aging import (
+    _bake_and_age,
+    _camera_and_render_settings,
+    _render,
+    lab,
+    rgba,
+    the_copy,
+    textured,  # noqa: F401  (fixture)
+)
+from lightfade_addon.core.colour.colorimetry import delta_E_2000
+
+bpy = pytest.importorskip("bpy")
+
+
+def switched(frames):
+    """The frame switches' factors (0: live, 1: frame image)."""
+    return [mix.inputs["Fac"].default_value for _copy, mix in frames.switches()]
+
+
+def assert_holds(image, linear):
+    """``image`` (8-bit sRGB) holds the linear colours ``linear`` (H, W, 4), each
+    rounded to its nearest code."""
+    from lightfade_addon.blender.pixels import encode_srgb
+
+    assert not image.is_float and image.colorspace_settings.name == "sRGB"
+    codes = np.rint(rgba(image)[..., :3] * 255.0)
+    np.testing.assert_array_equal(codes, np.rint(encode_srgb(linear[..., :3]) * 255.0))
+
+
+def _live_render(scene, folder, name):
+    """A render without the frame handler (the live material renders)."""
+    from lightfade_addon.blender.aging import frames
+
+    bpy.app.handlers.render_pre.remove(frames.on_render_pre)
+    try:
+        return _render(scene, folder, name)
+    finally:
+        bpy.app.handlers.render_pre.append(frames.on_render_pre)
+
+
+def test_a_render_reads_the_frame_images_written_for_it(textured, tmp_path, monkeypatch):
+    """The handler writes each copy's aged colour at the frame's years (Apply's pixels),
+    the render shows that image (a painted-over frame image shows), the switch is off
+    again afterwards, and the render agrees with the live material's."""
+    from lightfade_addon.blender.aging import frames
+    from lightfade_addon.blender.aging.apply import aged_pixels
+
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    _bake_and_age(years=30)
+    copy = the_copy(textured["material"])
+    assert switched(frames) == [0.0]
+    framed = _render(scene, tmp_path, "framed.exr")
+    assert switched(frames) == [0.0]
+    image = frames.frame_image(copy)
+    assert image["lightfade_years"] == 30.0
+    assert_holds(image, aged_pixels(scene, copy, 30.0))
+
+    real = frames.write_frame
+
+    def green(scene, copy, years):                  # what the render reads: the image
+        image = real(scene, copy, years)
+        px = rgba(image)
+        px[..., :3] = (0.0, 1.0, 0.0)
+        image.pixels.foreach_set(px.ravel())
+        return image
+
+    monkeypatch.setattr(frames, "write_frame", green)
+    painted = _render(scene, tmp_path, "painted.exr")
+    lit = framed.sum(-1) > 0.05
+    assert np.median(painted[lit][:, 1] / np.maximum(painted[lit].sum(-1), 1e-6)) > 0.9
+    monkeypatch.setattr(frames, "write_frame", real)
+
+    live = _live_render(scene, tmp_path, "live.exr")
+    scale = 1.0 / live.max()
+    dE = delta_E_2000(lab(live[lit] * scale), lab(framed[lit] * scale))
+    assert np.percentile(dE, 95) <= 1.0
+    assert np.abs(live - framed).max() > 0                # not the same branch
+
+
+def test_frame_images_are_written_only_when_what_they_hold_changes(textured, monkeypatch):
+    """The same years again writes nothing; other years, a painted texture and a re-bake
+    write again, each time Apply's pixels."""
+    from lightfade_addon.blender.aging import frames, runtime
+    from lightfade_addon.blender.aging.apply import aged_pixels
+
+    scene = bpy.context.scene
+    _bake_and_age(years=8)
+    copy = the_copy(textured["material"])
+    runs = []
+    real = runtime.aged_rgb
+
+    def counted(*args, **kwargs):
+        runs.append(args[3])
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(runtime, "aged_rgb", counted)
+    frames.write_frames(scene, 8.0)
+    frames.write_frames(scene, 8.0)
+    assert runs == [8.0]
+    frames.write_frames(scene, 9.0)
+    assert runs == [8.0, 9.0]
+    albedo = copy.lightfade.albedo
+    px = rgba(albedo)
+    px[..., :3] *= 0.5                                           # painted darker
+    albedo.pixels.foreach_set(px.ravel())
+    frames.write_frames(scene, 9.0)
+    assert runs == [8.0, 9.0, 9.0]
+    exposure = copy.lightfade.aged_object.lightfade.exposure_maps[0].image
+    exposure["lightfade_bake_id"] = int(exposure.get("lightfade_bake_id", 0)) + 1
+    frames.write_frames(scene, 9.0)
+    assert runs == [8.0, 9.0, 9.0, 9.0]
+    assert_holds(frames.frame_image(copy), aged_pixels(scene, copy, 9.0))
+
+
+def test_zero_years_renders_the_original_pixels_with_frames(textured, tmp_path, monkeypatch):
+    """At 0 years the switch stays on the live side, whose gate passes the original."""
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    before = _render(scene, tmp_path, "before.exr")
+    _bake_and_age(years=0)
+    assert np.abs(_render(scene, tmp_path, "after.exr") - before).max() <= 1e-6
+
+
+def test_the_switch_is_never_saved_on(textured, tmp_path):
+    """Saved in the middle of a render: the file holds the switch off and one-texel frame
+    images; the render in progress keeps its switch."""
+    from lightfade_addon.blender.aging import frames
+
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    _bake_and_age(years=10)
+    frames.on_render_pre(scene)
+    assert switched(frames) == [1.0]
+    image = frames.frame_image(the_copy(textured["material"]))
+    assert tuple(image.size) == tuple(the_copy(textured["material"]).lightfade.albedo.size)
+    path = tmp_path / "mid_render.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
+    assert switched(frames) == [1.0]
+    frames.on_render_end(scene)
+    assert switched(frames) == [0.0]
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    assert switched(frames) == [0.0]
+    (image,) = [i for i in bpy.data.images if i.name.startswith(frames.FRAME_PREFIX)]
+    assert tuple(image.size) == (1, 1)
+
+
+def test_an_animation_writes_each_frames_years(textured, tmp_path):
+    """Keyed years 0 → 40 rendered as an animation: each frame's images at its years."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging import frames
+
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    _bake_and_age(years=0)
+    api.keyframe_years(scene, [(1, 0.0), (3, 40.0)])
+    seen = []
+    real = frames.write_frame
+
+    def spy(scene, copy, years):
+        seen.append(years)
+        return real(scene, copy, years)
+
+    frames.write_frame = spy
+    try:
+        scene.frame_start, scene.frame_end = 1, 3
+        scene.render.filepath = str(tmp_path / "anim_")
+        bpy.ops.render.render(animation=True)
+    finally:
+        frames.write_frame = real
+    assert seen == pytest.approx([0.0, 20.0, 40.0])
+    assert switched(frames) == [0.0]
+
+
+def test_reset_removes_the_frame_images(textured):
+    from lightfade_addon.blender.aging import frames
+
+    _bake_and_age(years=5)
+    assert any(i.name.startswith(frames.FRAME_PREFIX) for i in bpy.data.images)
+    assert bpy.ops.lightfade.reset() == {"FINISHED"}
+    assert not any(i.name.startswith(frames.FRAME_PREFIX) for i in bpy.data.images)
+
+
+def test_eevee_renders_the_live_material(textured, tmp_path, monkeypatch):
+    """EEVEE evaluates the group at about an image's cost: no frame images for it (a
+    switch flipped per render would recompile its shaders)."""
+    from lightfade_addon.blender.aging import frames
+
+    scene = bpy.context.scene
+    _bake_and_age(years=10)
+    scene.render.engine = "BLENDER_EEVEE_NEXT" if bpy.app.version < (5, 0, 0) else "BLENDER_EEVEE"
+    called = []
+    monkeypatch.setattr(frames, "write_frames", lambda *a, **k: called.append(a))
+    frames.on_render_pre(scene)
+    assert called == [] and switched(frames) == [0.0]
+    scene.render.engine = "CYCLES"
+    frames.on_render_pre(scene)
+    assert len(called) == 1 and switched(frames) == [1.0]
+    frames.on_render_end(scene)
