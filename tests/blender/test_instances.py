@@ -283,6 +283,28 @@ def test_export_of_an_instanced_source_is_refused_in_one_line(chairs, tmp_path):
     assert copy.lightfade.aged_image is None
 
 
+def test_cycles_renders_instanced_sources_live_not_from_frame_images(chairs):
+    """A frame image holds one colour per texel of the source's UV map, not each
+    instance's tile: the render handler leaves an instanced source's copy live (its
+    switch stays 0 and no frame image is written) while the other copies switch."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging import frames
+
+    scene = bpy.context.scene
+    scene.render.engine = "CYCLES"
+    api.bake(scene)
+    copy = _chair_copy(api.age_scene(scene, years=10))
+    assert frames.frame_image(copy) is not None          # Age gave it a frame branch
+    assert copy not in [c for c, _ in frames.switches(scene)]
+    assert copy.name not in frames.write_frames(scene, 10.0)
+    frames.on_render_pre(scene)
+    try:
+        for tree, _ in frames.frame_nodes(copy):
+            assert tree.nodes[frames.FRAME_MIX].inputs["Fac"].default_value == 0.0
+    finally:
+        frames.on_render_end(scene)
+
+
 def test_a_moved_book_is_stale(chairs):
     """A geometry-nodes instance that moves (the scatter changed) makes its copy stale."""
     from lightfade_addon import api

@@ -32,6 +32,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import runtime
+from .instances import apply_problem
 from ..pixels import encode_srgb
 from .copies import _colour_socket, _duplicate, copies_of
 from .years import get_years, years_fcurve
@@ -124,6 +125,13 @@ def frame_years(scene):
 _WRITTEN = {}
 
 
+def renders_frames(copy):
+    """Whether ``copy`` shows frame images in Cycles renders: not when its object is
+    aged per instance (one image cannot hold every instance's tile of the exposure
+    atlas: the live group reads each instance's own)."""
+    return apply_problem(copy) is None
+
+
 def write_frame(scene, copy, years):
     """Write ``copy``'s aged colour at ``years`` into its frame image (at the texture's
     resolution), unless it holds exactly that already; returns the image (None
@@ -131,7 +139,7 @@ def write_frame(scene, copy, years):
     from .apply import original_pixels
 
     image = frame_image(copy)
-    if image is None:
+    if image is None or not renders_frames(copy):
         return None
     rgba = original_pixels(scene, copy)
     H, W = rgba.shape[:2]
@@ -169,8 +177,8 @@ def switches(scene=None):
     from .apply import aged_copies
 
     copies = aged_copies(scene) if scene is not None else copies_of()
-    return [(c, t.nodes[FRAME_MIX]) for c in copies for t, _n in frame_nodes(c)
-            if t.nodes.get(FRAME_MIX) is not None]
+    return [(c, t.nodes[FRAME_MIX]) for c in copies if renders_frames(c)
+            for t, _n in frame_nodes(c) if t.nodes.get(FRAME_MIX) is not None]
 
 
 def _shows(copy, years):
