@@ -266,7 +266,11 @@ def test_the_time_lapse_frames_match_one_machine_stills(job):
         farm = np.asarray(Image.open(renders / frame), dtype=float)
         one = np.asarray(Image.open(job.folder / "ref" / "renders" / f"scene_{years}y.png"),
                          dtype=float)
-        assert np.abs(farm - one).max() <= 2.0, frame
+        # the farm renders the live material (no LightFade), one machine the box from
+        # its frame images (blender/aging/frames.py): the same colours by two evaluators
+        tolerance = 2.0 if years == "0" else 6.0
+        assert np.abs(farm - one).max() <= tolerance, frame
+        assert np.abs(farm - one).mean() <= 1.0, frame
         pixels[years] = farm
     assert np.abs(pixels["25"] - pixels["0"]).mean() > 5.0      # the frames differ: it aged
 

@@ -33,6 +33,7 @@ from bpy.app.handlers import persistent
 
 from . import runtime
 from .instances import apply_problem
+from ..exposure import exposure_shape
 from ..pixels import encode_srgb
 from .copies import _colour_socket, _duplicate, copies_of
 from .years import get_years, years_fcurve
@@ -125,11 +126,28 @@ def frame_years(scene):
 _WRITTEN = {}
 
 
+#: How much coarser than its exposure maps a texture may be and still render from frame
+#: images: a 32² texture over 64² maps agrees with the live render
+#: (tests/blender/test_frames.py); an 8² one over 64² maps rendered 7 % darker at
+#: 25 years (the farm test's floor).
+MAX_COARSER = 2
+
+
 def renders_frames(copy):
     """Whether ``copy`` shows frame images in Cycles renders: not when its object is
     aged per instance (one image cannot hold every instance's tile of the exposure
-    atlas: the live group reads each instance's own)."""
-    return apply_problem(copy) is None
+    atlas: the live group reads each instance's own), nor when its texture is more than
+    :data:`MAX_COARSER` times coarser than its exposure maps (the live group ages each
+    shading point with the exposure there; a frame texel holds one colour for all the
+    exposure texels under it)."""
+    if apply_problem(copy) is not None:
+        return False
+    props = copy.lightfade
+    shape = exposure_shape(props.aged_object)
+    if props.path == "FLAT" or props.albedo is None or shape is None:
+        return True
+    width, height = props.albedo.size
+    return MAX_COARSER * height >= shape[0] and MAX_COARSER * width >= shape[1]
 
 
 def write_frame(scene, copy, years):
