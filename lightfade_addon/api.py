@@ -169,7 +169,7 @@ def set_parts(material, parts=(), rest=None):
     Raises ``ValueError`` (one line) before anything changes. Press Age (or
     :func:`age_scene`) afterwards; :func:`material_plan` lists what would stop it.
     """
-    from .blender.part_properties import set_parts as _set
+    from .blender.parts.properties import set_parts as _set
 
     return _set(material, list(parts), rest)
 

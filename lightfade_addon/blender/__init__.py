@@ -6,21 +6,26 @@ groups and handlers; :func:`unregister` undoes them in reverse.  Neither touches
 
 import bpy
 
-from . import cache, cli_command, handlers, panels, part_panel, properties
+from . import cache, cli_command, handlers, panels, properties
 from .bake import records as bake_records
 from .daylight import operators as daylight_operators
 from .daylight import panel as daylight_panel
 from .daylight import settings as daylight_settings
 from .operators import CLASSES as _OPERATOR_CLASSES
+from .parts import operators as parts_operators
+from .parts import panel as parts_panel
+from .parts import properties as parts_properties
 
 classes = (
+    *parts_properties.CLASSES,
     *properties.CLASSES,
     *bake_records.CLASSES,
     *daylight_settings.CLASSES,
     *_OPERATOR_CLASSES,
+    *parts_operators.CLASSES,
     *daylight_operators.CLASSES,
     *panels.CLASSES,
-    *part_panel.CLASSES,
+    *parts_panel.CLASSES,
     *daylight_panel.CLASSES,
 )
 

@@ -17,7 +17,7 @@ Where the data lives
     screens are not lamps); otherwise its emission is off while baking and the bake
     report and panel say so, naming the object and material.
 ``Material.lightfade`` (:class:`LIGHTFADE_PG_material`)
-    The aging recipe of a material, and its parts (:mod:`.part_properties`).
+    The aging recipe of a material, and its parts (:mod:`.parts.properties`).
 ``Object.lightfade`` and ``Scene.lightfade_bake``
     The exposure maps of a mesh and the bake settings: :mod:`.bake.records` (registered
     with the bake package).
@@ -40,7 +40,7 @@ from bpy.props import (
 from bpy.types import PropertyGroup
 
 
-from .part_properties import REST_ITEMS, LIGHTFADE_PG_lane, LIGHTFADE_PG_part
+from .parts.properties import REST_ITEMS, LIGHTFADE_PG_lane, LIGHTFADE_PG_part
 from .aging.years import SOFT_MAX_YEARS, get_years, write_years
 from .vocabulary import (
     AGED_RAYS_ITEMS,
@@ -210,7 +210,7 @@ class LIGHTFADE_PG_material(PropertyGroup):
         soft_max=20000.0,
     )
     already_hours_per_day: _hours_per_day("Hours per day that light was on")
-    # -- several recipes in one material, by mask (.part_properties, .parts)
+    # -- several recipes in one material, by mask (.parts.properties, .aging.parts)
     parts: CollectionProperty(type=LIGHTFADE_PG_part, name="Parts",
                               description="Parts of the texture that age with their own recipe "
                               "(or do not age), each given by a mask")
@@ -364,8 +364,6 @@ class LIGHTFADE_PG_scene(PropertyGroup):
 
 
 CLASSES = (
-    LIGHTFADE_PG_part,
-    LIGHTFADE_PG_lane,
     LIGHTFADE_PG_schedule,
     LIGHTFADE_PG_emission,
     LIGHTFADE_PG_slot_backup,

@@ -302,7 +302,7 @@ def test_reset_keeps_what_the_user_made_and_a_changed_part_needs_age(sofa):
 def test_the_parts_panel_shows_each_choice_and_what_stops_age(sofa):
     from types import SimpleNamespace
 
-    from lightfade_addon.blender.part_panel import MATERIAL_PT_lightfade_parts
+    from lightfade_addon.blender.parts.panel import MATERIAL_PT_lightfade_parts
 
     material = sofa["material"]
     context = SimpleNamespace(scene=bpy.context.scene, object=sofa["floor"], material=material)

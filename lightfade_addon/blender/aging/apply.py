@@ -32,7 +32,7 @@ from ..source import find_colour_socket
 from .years import get_years, write_years
 from ...core.colour.colorimetry import srgb_encode
 from .group import GROUP_VERSION
-from ..part_properties import parts_digest
+from ..parts.properties import parts_digest
 
 #: Prefix of the images :func:`apply_aging` writes.
 APPLIED_PREFIX = "LF_Applied_"

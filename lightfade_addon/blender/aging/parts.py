@@ -1,6 +1,6 @@
 """Several recipes in one material, by mask: each part ages as its own recipe would.
 
-The artist lists parts in ``Material.lightfade.parts`` (:mod:`.part_properties`): a
+The artist lists parts in ``Material.lightfade.parts`` (:mod:`..parts.properties`): a
 recipe (or *Does Not Age*) and a mask each, plus what the rest of the material does.
 An aged copy with parts then evaluates the aging **once per recipe in use** (a *lane*:
 parts with the same recipe and sensitivity share one) and mixes the results by the
@@ -44,7 +44,7 @@ from ..errors import AgingError
 from ..exposure import exposure_uv
 from .group import GROUP_VERSION, VERSION_KEY
 from .mix import PER_IMAGE, mix_group
-from ..part_properties import KEEP, part_recipe_key, parts_digest
+from ..parts.properties import KEEP, part_recipe_key, parts_digest
 from ..pixels import read_rgba
 from ..source import ColourSocket, find_colour_socket, image_problem, tree_at
 

@@ -29,7 +29,7 @@ from ..errors import AgingError
 from ..exposure import exposure_images, exposure_signature
 from .grids import SceneGridStore
 from .group import VERSION_KEY, GroupSpec, new_group
-from ..part_properties import parts_digest
+from ..parts.properties import parts_digest
 from ..pixels import read_linear, read_rgba
 from ..vocabulary import RECIPE_IDS, SPECTRUM_IDS
 

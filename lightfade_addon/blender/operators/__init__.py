@@ -4,7 +4,6 @@ from .age import LIGHTFADE_OT_age
 from .apply_aging import LIGHTFADE_OT_apply_aging, LIGHTFADE_OT_live_aging
 from .bake_exposure import LIGHTFADE_OT_bake_calibrate, LIGHTFADE_OT_bake_exposure
 from .key_years import LIGHTFADE_OT_key_years
-from .parts import LIGHTFADE_OT_part_add, LIGHTFADE_OT_part_remove
 from .reset import LIGHTFADE_OT_reset
 
 CLASSES = (
@@ -15,6 +14,4 @@ CLASSES = (
     LIGHTFADE_OT_live_aging,
     LIGHTFADE_OT_reset,
     LIGHTFADE_OT_key_years,
-    LIGHTFADE_OT_part_add,
-    LIGHTFADE_OT_part_remove,
 )

@@ -11,7 +11,7 @@ does not age. A part whose recipe is *Does Not Age* stays exactly as it is.
 On an aged copy, ``Material.lightfade.lanes`` (:class:`LIGHTFADE_PG_lane`) holds one
 preparation per recipe in use (parts with the same recipe and sensitivity share one):
 its recipe, the colour table its aging group reads and the weights baked for Apply to
-Images (:mod:`.aging.parts`).
+Images (:mod:`..aging.parts`).
 """
 
 import bpy
@@ -19,7 +19,7 @@ from bpy.props import EnumProperty, FloatProperty, IntProperty, PointerProperty,
     StringProperty
 from bpy.types import PropertyGroup
 
-from .vocabulary import RECIPE_BLUE_WOOL, RECIPE_ITEMS
+from ..vocabulary import RECIPE_BLUE_WOOL, RECIPE_ITEMS
 
 #: The part recipe that keeps its pixels exactly as they are.
 KEEP = "KEEP"
@@ -207,3 +207,7 @@ def set_parts(material, parts, rest=None):
 
 
 
+
+
+#: Registered before :mod:`..properties` (``LIGHTFADE_PG_material`` holds both).
+CLASSES = (LIGHTFADE_PG_part, LIGHTFADE_PG_lane)

@@ -2,10 +2,10 @@
 
 import bpy
 
-from .aging.copies import original
-from .part_properties import KEEP
-from .aging.parts import part_problems, recipes_in_use
-from .source import find_colour_socket
+from ..aging.copies import original
+from ..aging.parts import part_problems, recipes_in_use
+from ..source import find_colour_socket
+from .properties import KEEP
 
 #: What each mask source does, said under it.
 _MASK_HELP = {

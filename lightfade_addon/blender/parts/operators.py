@@ -47,3 +47,6 @@ class LIGHTFADE_OT_part_remove(bpy.types.Operator):
         props.parts.remove(index)
         props.part_index = max(0, min(index, len(props.parts) - 1))
         return {"FINISHED"}
+
+
+CLASSES = (LIGHTFADE_OT_part_add, LIGHTFADE_OT_part_remove)
