@@ -46,7 +46,7 @@ def apply_tags(scene):
         ``materials`` {name: {recipe, blue_wool}}, ``emitters`` {name: schedule or None}
         and ``daylight`` (the place, or None).
     """
-    from lightfade_addon.blender.properties import RECIPE_IDS, SPECTRUM_IDS
+    from lightfade_addon.blender.vocabulary import RECIPE_IDS, SPECTRUM_IDS
 
     recipe_enum = {v: k for k, v in RECIPE_IDS.items()}
     spectrum_enum = {v: k for k, v in SPECTRUM_IDS.items()}

@@ -7,6 +7,8 @@ groups and handlers; :func:`unregister` undoes them in reverse.  Neither touches
 import bpy
 
 from . import cache, cli_command, handlers, panels, properties
+from .aging import panel as aging_panel
+from .aging import properties as aging_properties
 from .bake import records as bake_records
 from .daylight import operators as daylight_operators
 from .daylight import panel as daylight_panel
@@ -18,19 +20,22 @@ from .parts import properties as parts_properties
 
 classes = (
     *parts_properties.CLASSES,
+    *aging_properties.CLASSES,
     *properties.CLASSES,
     *bake_records.CLASSES,
     *daylight_settings.CLASSES,
     *_OPERATOR_CLASSES,
     *parts_operators.CLASSES,
     *daylight_operators.CLASSES,
+    *aging_panel.CLASSES,
     *panels.CLASSES,
     *parts_panel.CLASSES,
     *daylight_panel.CLASSES,
 )
 
 #: Every ``(ID type, attribute, property group)`` LightFade attaches, in order.
-pointers = (*properties.POINTERS, *bake_records.POINTERS, *daylight_settings.POINTERS)
+pointers = (*properties.POINTERS, *aging_properties.POINTERS, *bake_records.POINTERS,
+            *daylight_settings.POINTERS)
 
 
 def register():

@@ -11,6 +11,16 @@ import bpy
 from lightfade_addon.blender.bake import BakeSettings, bake_exposure
 
 
+class OperatorProperties:
+    """What ``layout.operator`` returns: setting a property the operator lacks fails."""
+
+    def __init__(self, op):
+        object.__setattr__(self, "_names", op.get_rna_type().properties.keys())
+
+    def __setattr__(self, name, value):
+        assert name in self._names, f"the operator has no property {name!r}"
+
+
 class RecordingLayout:
     def __init__(self, calls):
         self.calls = calls
@@ -30,6 +40,7 @@ class RecordingLayout:
         module, name = idname.split(".")
         assert hasattr(getattr(bpy.ops, module), name), idname
         self.calls.append(("operator", idname))
+        return OperatorProperties(getattr(getattr(bpy.ops, module), name))
 
     def label(self, text="", **kwargs):
         self.calls.append(("label", text))
@@ -45,10 +56,10 @@ class RecordingLayout:
 
 
 def draw_all(context):
-    from lightfade_addon.blender import panels
+    from lightfade_addon import blender as shell
 
     calls = []
-    for cls in panels.CLASSES:
+    for cls in (c for c in shell.classes if issubclass(c, bpy.types.Panel)):
         if hasattr(cls, "poll") and not cls.poll(context):
             continue
         panel = SimpleNamespace(layout=RecordingLayout(calls))

@@ -64,12 +64,16 @@ class TestRegister:
             if name.startswith("LIGHTFADE_OT_"):
                 assert cls.bl_idname.startswith("lightfade.")
                 assert cls.bl_options == {"REGISTER", "UNDO"}
-        assert shell.panels.MATERIAL_PT_lightfade.bl_context == "material"
+        assert shell.aging_panel.MATERIAL_PT_lightfade.bl_context == "material"
 
     def test_every_property_has_a_tooltip(self, blender):
-        from lightfade_addon.blender import properties
+        import bpy
+        from lightfade_addon import blender as shell
 
-        for cls in properties.CLASSES:
+        groups = [c for c in shell.classes if issubclass(c, bpy.types.PropertyGroup)]
+        assert {"LIGHTFADE_PG_material", "LIGHTFADE_PG_part", "LIGHTFADE_PG_scene"} <= {
+            c.__name__ for c in groups}
+        for cls in groups:
             for prop in cls.bl_rna.properties:
                 if prop.identifier in {"rna_type", "name"}:
                     continue
@@ -115,7 +119,7 @@ class TestOneVocabulary:
             assert items[name.upper().replace("-", "_")][1] == recipe.description
 
     def test_every_emitter_kind_resolves_to_a_core_light(self, blender):
-        from lightfade_addon.blender.properties import EMITTER_KIND_ITEMS, resolve_spectrum
+        from lightfade_addon.blender.vocabulary import EMITTER_KIND_ITEMS, resolve_spectrum
         from lightfade_addon.core.fading.spectra import LIGHTS
 
         light = bpy.data.lights.new("L", "POINT")

@@ -31,7 +31,9 @@ from .presets import PRESETS
 class LIGHTFADE_PG_emitter_ref(PropertyGroup):
     """One emitter of a light group (``name`` is the light object, "World" or the mesh)."""
 
-    kind: EnumProperty(name="Kind", items=EMITTER_KIND_ITEMS, default="SUN")
+    kind: EnumProperty(name="Kind", items=EMITTER_KIND_ITEMS, default="SUN",
+                       description="What this emitter is: a kind of lamp, the world or an "
+                       "emissive mesh")
 
 
 class LIGHTFADE_PG_exposure_map(PropertyGroup):
