@@ -160,33 +160,34 @@ def _saturated_length(values):
     return int(min(values.shape[1], (idx[-1] + 2) if idx.size else 2))
 
 
-def _solve(unmixer, encoded, extended=False, start=None, J=None):
+def _solve(unmixer, encoded, extended=False):
     """Converged concentrations (``extended``: ``Φ``, unbounded) of encoded colours
-    (n, 3), in blocks on threads (the rows are independent: the result does not depend
-    on the blocks); ``extended`` from a close ``start`` (n, Cu) and Jacobians ``J``
-    (n, 3, Cu), optional (:meth:`..fading.unmix.Unmixer.continued`, square systems),
-    instead of the unmixer's table."""
-    c = np.zeros((encoded.shape[0], unmixer.Cu))
-    if unmixer.Cu == 0:
-        return c
-    size = -(-encoded.shape[0] // _THREADS)
-
+    (n, 3), in blocks on threads (:func:`_by_rows`)."""
     # three colourants: Eq. U1 is square, one solution per colour, reached from the
     # table of Φ; fewer: least squares, whose local minima the full solve must choose
     # as the exact path does
     steps = EXTENSION_STEPS if unmixer.square else None
+    if extended:
+        return _by_rows(lambda rows: unmixer.extended(encoded[rows], encoded=True, steps=steps),
+                        encoded.shape[0], (unmixer.Cu,))
+    return _by_rows(lambda rows: unmixer.unmix(encoded[rows], encoded=True),
+                    encoded.shape[0], (unmixer.Cu,))
+
+
+def _by_rows(solve, n, shape):
+    """(n,) + ``shape`` rows of ``solve(rows)`` (a slice), in blocks on threads (the rows
+    are independent: the result does not depend on the blocks)."""
+    out = np.zeros((n,) + tuple(shape))
+    if out.size == 0:
+        return out
+    size = -(-n // _THREADS)
 
     def block(s0):
         rows = slice(s0, s0 + size)
-        if not extended:
-            c[rows] = unmixer.unmix(encoded[rows], encoded=True)
-        elif start is None:
-            c[rows] = unmixer.extended(encoded[rows], encoded=True, steps=steps)
-        else:
-            c[rows] = unmixer.continued(encoded[rows], start[rows], J[rows], encoded=True)
+        out[rows] = solve(rows)
 
-    in_blocks(block, encoded.shape[0], size, _THREADS)
-    return c
+    in_blocks(block, n, size, _THREADS)
+    return out
 
 
 def _midpoints(values, axis):
@@ -223,36 +224,30 @@ def _cube_solution(unmixer, encoded):
     (:func:`_refined`), about 1e-4 from ``Φ`` where the unmixer's own 17³ table is
     1e-2 off, with its Jacobians interpolated the same way as the step matrix
     (:meth:`..fading.unmix.Unmixer.continued`): the same solution in about 2.5
-    evaluations of the forward model a node instead of 13. With fewer colourants (least
-    squares, whose local minima depend on the start) and on the coarsest cube
-    (:data:`_COARSEST`): the plain solve from the unmixer's table."""
-    A = encoded.shape[0]
-    if not unmixer.square or A % 2 == 0 or A < 2 * _COARSEST - 1:
-        return _solve(unmixer, encoded.reshape(-1, 3), extended=True).reshape(A, A, A, -1)
+    evaluations of the forward model a node instead of 13. The coarsest cube
+    (:data:`_COARSEST`) is solved as the unmixer's table is, without it
+    (:meth:`..fading.unmix.Unmixer.direct`: 343 colours, where building the table
+    costs 4913). With fewer colourants (least squares, whose local minima depend on
+    the start): the plain solve from the unmixer's table at every node."""
+    A, Cu = encoded.shape[0], unmixer.Cu
+    if not unmixer.square:
+        return _solve(unmixer, encoded.reshape(-1, 3), extended=True).reshape(A, A, A, Cu)
+    if A % 2 == 0 or A < 2 * _COARSEST - 1:
+        flat = encoded.reshape(-1, 3)
+        return _by_rows(lambda rows: unmixer.direct(flat[rows], encoded=True),
+                        A ** 3, (Cu,)).reshape(A, A, A, Cu)
     coarse = _cube_solution(unmixer, encoded[::2, ::2, ::2])
-    n = coarse.shape[0]
-    J = _jacobians(unmixer, coarse.reshape(-1, unmixer.Cu)).reshape(n, n, n, 3, unmixer.Cu)
+    inner = np.clip(coarse.reshape(-1, Cu), 0.0, 1.0)
+    J = _by_rows(lambda rows: unmixer.jacobian(inner[rows]), inner.shape[0], (3, Cu))
     new = np.ones((A, A, A), dtype=bool)
     new[::2, ::2, ::2] = False
-    phi = np.empty((A, A, A, unmixer.Cu))
+    colours, start = encoded[new], _refined(coarse)[new]
+    J = _refined(J.reshape(coarse.shape[:3] + (3, Cu)))[new]
+    phi = np.empty((A, A, A, Cu))
     phi[::2, ::2, ::2] = coarse
-    phi[new] = _solve(unmixer, encoded[new], extended=True, start=_refined(coarse)[new],
-                      J=_refined(J)[new])
+    phi[new] = _by_rows(lambda rows: unmixer.continued(colours[rows], start[rows], J[rows],
+                                                       encoded=True), colours.shape[0], (Cu,))
     return phi
-
-
-def _jacobians(unmixer, phi):
-    """``dLab / dc`` (n, 3, Cu) at ``clip(phi, 0, 1)`` (:meth:`..fading.unmix.Unmixer.jacobian`),
-    in blocks on threads."""
-    J = np.empty((phi.shape[0], 3, unmixer.Cu))
-    size = -(-phi.shape[0] // _THREADS)
-
-    def block(s0):
-        rows = slice(s0, s0 + size)
-        J[rows] = unmixer.jacobian(np.clip(phi[rows], 0.0, 1.0))
-
-    in_blocks(block, phi.shape[0], size, _THREADS)
-    return J
 
 
 def _unmixing(unmixer, settings, say):

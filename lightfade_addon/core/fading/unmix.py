@@ -408,11 +408,25 @@ class Unmixer:
             n = self.lut_size
             axis = np.linspace(0.0, 1.0, n)
             enc = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
-            lin = srgb_decode(enc)
-            phi = extended_newton(self.Lab, self.solve_linear_srgb(lin),
-                                  XYZ_to_Lab(linear_srgb_to_XYZ(lin)))
+            phi = self._direct(XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(enc))))
             self._lut = phi.reshape(n, n, n, self.Cu)
         return self._lut
+
+    def _direct(self, Lab):
+        """``Φ`` of colours ``Lab`` (N, 3) without :attr:`lut`: the bounded solve from the
+        nearest forward sample (:meth:`solve_Lab`), then Newton steps past the box."""
+        return extended_newton(self.Lab, self.solve_Lab(Lab), Lab)
+
+    def direct(self, rgb, encoded=False):
+        """:meth:`extended` of colours (N, 3) solved as :attr:`lut`'s nodes are, without
+        it (a few colours: cheaper than building it). For a square system
+        (:attr:`square`, one solution per colour) the same ``Φ`` within
+        :data:`STEP_TOLERANCE`."""
+        rgb = np.asarray(rgb, dtype=float).reshape(-1, 3)
+        if self.Cu == 0:
+            return np.zeros((rgb.shape[0], 0))
+        e = np.clip(rgb if encoded else srgb_encode(np.clip(rgb, 0.0, 1.0)), 0.0, 1.0)
+        return self._direct(XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(e))))
 
     def _estimate(self, e):
         """The trilinear interpolation of :attr:`lut` at encoded colours ``e`` (N, 3)."""
