@@ -37,7 +37,7 @@ from .recipes import Recipe
 from .spectra import WAVELENGTHS
 
 __all__ = ["CONVERGED", "EXTENSION_STEPS", "STEP_TOLERANCE", "Unmixer", "bounded_gauss_newton",
-           "extended_newton", "forward_reflectance", "get_unmixer", "jacobian", "pseudo_inverse"]
+           "continued_newton", "extended_newton", "forward_reflectance", "get_unmixer", "jacobian", "pseudo_inverse"]
 
 
 #: Most Gauss–Newton steps of a converged solve (``refine=None``); rows leave as soon
@@ -214,6 +214,70 @@ def extended_newton(F, c, target, steps=EXTENSION_STEPS, h=1e-5, step_tol=STEP_T
     return c
 
 
+def continued_newton(F, c, target, J, steps=EXTENSION_STEPS, h=1e-5, step_tol=STEP_TOLERANCE):
+    """:func:`extended_newton`'s solution of Eq. U1 from a close start ``c`` and a close
+    Jacobian ``J`` (a neighbour's): the same residual, cheaper steps, in place.
+
+    The residual is :func:`extended_newton`'s: ``Lab(ĉ) + J(ĉ) · (c − ĉ) − target``
+    with ``J(ĉ)``'s one-sided differences (:func:`jacobian`), needed only in the
+    columns of the coordinates outside the box (``c − ĉ`` is 0 in the others), so a
+    step evaluates the forward model once per row plus once per coordinate outside.
+    Only the step's matrix differs: ``J`` with those exact columns (a chord method,
+    which converges at the rate of ``J``'s error, about 1e-3 for a neighbour's at
+    the colour cube's spacing), replaced by ``jacobian`` at ``ĉ`` for a row whose step
+    did not shrink fourfold. Rows leave once their step is below ``step_tol``, as in
+    :func:`extended_newton`: the solution is the same within that tolerance.
+
+    Parameters
+    ----------
+    F : callable, F(x) -> (n, K)
+        Row-wise forward model on [0, 1] (CIELAB of concentrations).
+    c : ndarray, shape (N, Cu)
+        Start; overwritten with ``Φ``, unbounded.
+    target : ndarray, shape (N, K)
+    J : ndarray, shape (N, K, Cu)
+        Approximate Jacobians at the solution (not changed).
+    steps : int
+        Most steps.
+
+    Returns
+    -------
+    ndarray, shape (N, Cu)
+        ``c``.
+    """
+    J = np.array(J, dtype=float)
+    active = np.arange(c.shape[0])
+    last = np.full(c.shape[0], np.inf)                  # each row's previous step size
+    fresh = np.zeros(c.shape[0], dtype=bool)            # rows taking jacobian() this step
+    for _ in range(steps):
+        if active.size == 0:
+            break
+        ca = c[active]
+        inner = np.clip(ca, 0.0, 1.0)
+        off = ca - inner                                # 0 inside the box
+        F_c = F(inner)
+        Ja = J[active]
+        new = fresh[active]
+        if new.any():
+            Ja[new] = jacobian(F, inner[new], F_c[new], h)
+        for k in range(c.shape[1]):                     # exact columns where outside
+            rows = np.flatnonzero((off[:, k] != 0.0) & ~new)
+            if rows.size:
+                x = inner[rows]
+                step = np.where(x[:, k] + h <= 1.0, h, -h)
+                x[:, k] += step
+                Ja[rows, :, k] = (F(x) - F_c[rows]) / step[:, None]
+        J[active] = Ja
+        r = F_c + np.einsum("nki,ni->nk", Ja, off) - target[active]
+        delta = np.einsum("nik,nk->ni", pseudo_inverse(Ja), r)
+        c[active] = ca - delta
+        size = np.abs(delta).max(axis=1)
+        fresh[active] = size > 0.25 * last[active]
+        last[active] = size
+        active = active[size > step_tol]
+    return c
+
+
 class Unmixer:
     """Inverse of the forward model for one recipe.
 
@@ -320,6 +384,17 @@ class Unmixer:
             return np.zeros((rgb.shape[0], 0))
         return self._solve(rgb, encoded, steps, clip=False)
 
+    def continued(self, rgb, start, J, encoded=False, steps=EXTENSION_STEPS):
+        """:meth:`extended` (``steps`` an int) of colours (N, 3) from a close ``start``
+        (N, Cu) and close Jacobians ``J`` (N, 3, Cu), a neighbouring colour's: the same
+        solution of the square system (:attr:`square`) within :data:`STEP_TOLERANCE`,
+        in fewer and cheaper steps (:func:`continued_newton`)."""
+        rgb = np.asarray(rgb, dtype=float).reshape(-1, 3)
+        e = np.clip(rgb if encoded else srgb_encode(np.clip(rgb, 0.0, 1.0)), 0.0, 1.0)
+        target = XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(e)))
+        c = np.array(start, dtype=float).reshape(rgb.shape[0], self.Cu)
+        return continued_newton(self.Lab, c, target, J, steps)
+
     def solve_linear_srgb(self, rgb, iterations=12):
         """Concentrations for linear sRGB colours (N, 3) (exact solve, no table)."""
         return self.solve_Lab(XYZ_to_Lab(linear_srgb_to_XYZ(np.asarray(rgb, float))), iterations)
@@ -333,11 +408,40 @@ class Unmixer:
             n = self.lut_size
             axis = np.linspace(0.0, 1.0, n)
             enc = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
-            lin = srgb_decode(enc)
-            phi = extended_newton(self.Lab, self.solve_linear_srgb(lin),
-                                  XYZ_to_Lab(linear_srgb_to_XYZ(lin)))
+            phi = self._direct(XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(enc))))
             self._lut = phi.reshape(n, n, n, self.Cu)
         return self._lut
+
+    def _direct(self, Lab):
+        """``Φ`` of colours ``Lab`` (N, 3) without :attr:`lut`: the bounded solve from the
+        nearest forward sample (:meth:`solve_Lab`), then Newton steps past the box."""
+        return extended_newton(self.Lab, self.solve_Lab(Lab), Lab)
+
+    def direct(self, rgb, encoded=False):
+        """:meth:`extended` of colours (N, 3) solved as :attr:`lut`'s nodes are, without
+        it (a few colours: cheaper than building it). For a square system
+        (:attr:`square`, one solution per colour) the same ``Φ`` within
+        :data:`STEP_TOLERANCE`."""
+        rgb = np.asarray(rgb, dtype=float).reshape(-1, 3)
+        if self.Cu == 0:
+            return np.zeros((rgb.shape[0], 0))
+        e = np.clip(rgb if encoded else srgb_encode(np.clip(rgb, 0.0, 1.0)), 0.0, 1.0)
+        return self._direct(XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(e))))
+
+    def _estimate(self, e):
+        """The trilinear interpolation of :attr:`lut` at encoded colours ``e`` (N, 3)."""
+        n = self.lut_size
+        x = e * (n - 1)
+        i = np.minimum(x.astype(np.int64), n - 2)
+        f = x - i
+        lut = self.lut
+        out = np.zeros((e.shape[0], self.Cu))
+        for bits in np.ndindex(2, 2, 2):
+            w = np.ones(e.shape[0])
+            for k, b in enumerate(bits):
+                w = w * (f[:, k] if b else 1.0 - f[:, k])
+            out += w[:, None] * lut[i[:, 0] + bits[0], i[:, 1] + bits[1], i[:, 2] + bits[2]]
+        return out
 
     def unmix(self, rgb, encoded=False, refine=None):
         """Concentrations for colours (N, 3): ``clip(Φ, 0, 1)`` (Eq. U2).
@@ -363,17 +467,7 @@ class Unmixer:
 
     def _solve(self, rgb, encoded, refine, clip):
         e = np.clip(rgb if encoded else srgb_encode(np.clip(rgb, 0.0, 1.0)), 0.0, 1.0)
-        n = self.lut_size
-        x = e * (n - 1)
-        i = np.minimum(x.astype(np.int64), n - 2)
-        f = x - i
-        lut = self.lut
-        out = np.zeros((rgb.shape[0], self.Cu))
-        for bits in np.ndindex(2, 2, 2):
-            w = np.ones(rgb.shape[0])
-            for k, b in enumerate(bits):
-                w = w * (f[:, k] if b else 1.0 - f[:, k])
-            out += w[:, None] * lut[i[:, 0] + bits[0], i[:, 1] + bits[1], i[:, 2] + bits[2]]
+        out = self._estimate(e)
         if refine is None or refine:
             target = XYZ_to_Lab(linear_srgb_to_XYZ(srgb_decode(e)))
             if refine is None:                  # converged: bounded, then past the box

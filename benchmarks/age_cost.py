@@ -1,0 +1,76 @@
+"""What Age costs against the bake on a fresh machine (tables built), and where it goes.
+
+    ./run py -m benchmarks.age_cost                  # the ten-material room of live_room
+    ./run py -m benchmarks.age_cost --size 512 --profile 25
+
+The room of :mod:`benchmarks.live_room` (ten 1k materials, Printed Paper and Dyed
+Fabric, a sun and an incandescent lamp: two spectra), baked at its settings, then aged
+with an empty table cache and a fresh process's caches (the tables and their unmixing
+``Φ`` built), then aged again (the tables found on disk). Printed side by side, in one
+process: wall and process time of the bake and of both Ages, and the ratio of the cold
+Age to the bake (target <= 0.25x). With ``--profile N``: the cold Age's N costliest
+functions (cProfile, cumulative).
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import os
+import pstats
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import bpy  # noqa: E402,F401  (first: it puts Blender's modules on the path)
+
+from benchmarks.live_room import build  # noqa: E402
+
+
+def _timed(fn, profile=None):
+    """(wall s, process s) of ``fn()``."""
+    c0, w0 = time.process_time(), time.perf_counter()
+    if profile is not None:
+        profile.enable()
+    try:
+        fn()
+    finally:
+        if profile is not None:
+            profile.disable()
+    return time.perf_counter() - w0, time.process_time() - c0
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--size", type=int, default=1024, help="texture side (px)")
+    parser.add_argument("--density", type=float, default=48.0, help="exposure texels per metre")
+    parser.add_argument("--profile", type=int, default=0, metavar="N",
+                        help="print the cold Age's N costliest functions")
+    args = parser.parse_args(argv)
+    from lightfade_addon import api
+    from lightfade_addon.core.fading import cache
+
+    folder = tempfile.mkdtemp(prefix="lf_age_")
+    cache.set_directory(os.path.join(folder, "cache"))         # an empty table cache
+    scene = build(args.size)
+    scene.lightfade_bake.texels_per_metre = args.density
+    scene.lightfade.bake_samples = 16
+    bake = _timed(lambda: api.bake(scene, quality="CUSTOM", samples=16))
+    profile = cProfile.Profile() if args.profile else None
+    cold = _timed(lambda: api.age_scene(scene, years=25.0), profile)
+    warm = _timed(lambda: api.age_scene(scene, years=25.0))
+    tables = [i for i in bpy.data.images if i.name.startswith("LF_Table_")]
+    print(f"room: 10 materials of {args.size}² under 2 spectra, {len(tables)} colour tables")
+    print(f"bake {bake[0]:7.1f} s wall ({bake[1]:6.1f} s process) | Age with tables built "
+          f"{cold[0]:6.1f} s wall ({cold[1]:6.1f} s process): {cold[0] / bake[0]:.3f}x the "
+          f"bake (target <= 0.25x) | Age with tables cached {warm[0]:5.1f} s "
+          f"({warm[0] / bake[0]:.3f}x)")
+    if profile is not None:
+        pstats.Stats(profile).sort_stats("cumulative").print_stats(args.profile)
+
+
+if __name__ == "__main__":
+    main()
