@@ -620,11 +620,12 @@ def test_linked_chairs_age_per_instance_when_the_artist_asks(chairs, tmp_path):
     """The four chairs instancing a collection linked from another .blend: skipped in one
     line until Age Linked Instances; then each chair bakes its own tile (sun > 3 × shade)
     through one local copy of the chair (its mesh the library's: no mesh copied), the
-    library's objects untouched; saved and reopened it keeps its aged material and tiles;
+    library's objects untouched; the saved file renders the chairs in the sun faded and
+    those in the shade not, without LightFade; reopened it keeps its aged material and tiles;
     Reset with the exposure puts the library's collection back exactly."""
     from lightfade_addon import api
 
-    library = tmp_path / "chairs.blend"
+    library = tmp_path / "library.blend"
     bpy.data.libraries.write(str(library), {chairs["collection"]})
     with bpy.data.libraries.load(str(library), link=True) as (_src, dst):
         dst.collections = ["Chair"]
@@ -637,6 +638,7 @@ def test_linked_chairs_age_per_instance_when_the_artist_asks(chairs, tmp_path):
     bpy.data.meshes.remove(mesh)
     bpy.data.materials.remove(chairs["material"])             # the library's from here on
     scene = bpy.context.scene
+    _top_camera(scene)                          # rendered without LightFade, library linked
     before = _state()
     result = api.bake(scene)
     assert sorted(result["maps"]) == ["Book"]
@@ -653,7 +655,10 @@ def test_linked_chairs_age_per_instance_when_the_artist_asks(chairs, tmp_path):
                 (m.name, False) not in meshes and not m.name.startswith("LF_Tiles_")]
     tiles = _tiles(chair)
     assert min(tiles["Chair 1"], tiles["Chair 2"]) > 3 * max(tiles["Chair 3"], tiles["Chair 4"])
-    api.age_scene(scene, years=10)
+    api.age_scene(scene, years=0)
+    chair_fades, _books = _fade_per_chair(tmp_path, "CYCLES")
+    assert min(chair_fades[:2]) > 5 and max(chair_fades[2:]) < 0.4 * min(chair_fades[:2]), \
+        chair_fades
     original = [o for o in bpy.data.objects if o.library is not None and o.type == "MESH"]
     assert [(s.link, s.material.name) for o in original for s in o.material_slots] == \
         [("DATA", "Chair Fabric")]
