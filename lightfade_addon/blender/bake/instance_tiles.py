@@ -186,13 +186,20 @@ def evaluated_instances(instancer, names=("id",)):
     return co.reshape(-1, 3), out
 
 
-def positions(instancer, ids):
+def positions(instancer, ids, matrices):
     """``{id: (row, position)}`` of ``instancer``'s geometry-nodes instances ``ids`` (the
     last level of Blender's persistent id: the instance's ``id`` attribute where it has
     one, else its index) as evaluated: their index and position in the instancer's space.
     An id Blender had to make unique (two instances with one ``id``) is left out: that
-    instance reads its nearest baked neighbour's tile."""
-    positions, attributes = evaluated_instances(instancer)
+    instance reads its nearest baked neighbour's tile.  An instancer Blender gives no
+    mesh of (hair curves) falls back on ``matrices`` (``{id: world matrix}`` of the
+    placements): right for instances of an object, whose matrix is the instance's."""
+    try:
+        positions, attributes = evaluated_instances(instancer)
+    except RuntimeError:                          # "Object does not have geometry data"
+        inverse = instancer.matrix_world.inverted()
+        return {i: (i, np.array((inverse @ m).translation, dtype=np.float32))
+                for i, m in matrices.items()}
     rows = {}
     if "id" in attributes:
         for row, value in enumerate(attributes["id"].tolist()):

@@ -165,13 +165,18 @@ def find_placements(depsgraph, view_layer, chosen=(), warn=None):
 
 
 def linked_note(source, placements):
-    """One line for a source linked from a library: its instances are not aged."""
+    """One line for a source linked from a library: its instances are not aged (what to
+    do: Age Linked Instances for collection instances, :mod:`.linked`)."""
     lib = source.library or source.override_library.reference.library
-    return (f"Skipped \"{source.name}\" ({len(placements)} instances): it is linked from "
+    head = (f"Skipped \"{source.name}\" ({len(placements)} instances): it is linked from "
             f"\"{lib.filepath if lib else 'a library'}\", whose objects cannot keep an aged "
-            "material; press Age Linked Instances (Exposure Bake panel) to age its collection "
-            "instances through local copies of its aging objects (the meshes stay the "
-            "library's; Reset puts the library's collection back)")
+            "material; ")
+    if any(p.kind == "COLLECTION" for p in placements):
+        return head + ("press Age Linked Instances (Exposure Bake panel) to age its collection "
+                       "instances through local copies of its aging objects (the meshes stay "
+                       "the library's; Reset puts the library's collection back)")
+    return head + ("geometry nodes instance it: make its collection local (Object > "
+                   "Relations > Make Local) to age them")
 
 
 def planned(depsgraph, view_layer, settings, chosen=()):
@@ -285,7 +290,8 @@ def write_tiles(plan):
         else:
             scattered.setdefault(holder, {})[placement.index] = k
     for instancer, tiles in scattered.items():
-        found = sorted(instance_tiles.positions(instancer, tiles).items(),
+        matrices = {i: plan.placements[k].matrix for i, k in tiles.items()}
+        found = sorted(instance_tiles.positions(instancer, tiles, matrices).items(),
                        key=lambda t: t[1][0])
         instance_tiles.write(instancer, name, [pos for _i, (_row, pos) in found],
                              [plan.rect(tiles[i]) for i, _ in found])
