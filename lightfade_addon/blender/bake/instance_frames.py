@@ -3,8 +3,8 @@
 The bake packs the placements of one frame (the current one) into each source's atlas
 (:mod:`.instances`).  A scatter whose count is animated, or an animated instancer, has
 other placements in other frames: they are stale there.  :func:`frame_changes` compares
-the scene's first and last frames with the bake's and says so once per source, with the
-counts; the line is stored with the source (``instance_changes``) for ``info``.
+the scene's first, middle and last frames with the bake's and says so once per source,
+with the counts; the line is stored with the source (``instance_changes``) for ``info``.
 """
 
 from __future__ import annotations
@@ -33,8 +33,8 @@ def _layout(plan):
 
 
 def frame_changes(scene, view_layer, plans):
-    """One line per source in ``plans`` whose placements differ at the scene's first or
-    last frame from the bake's frame (instances that appear, go or move with time: the
+    """One line per source in ``plans`` whose placements differ at the scene's first,
+    middle or last frame from the bake's frame (instances that appear, go or move with time: the
     count of a scatter animated, an animated instancer): an atlas holds the instances of
     one frame, each lit where it stands then.  Stored in ``plan.changes``; the lines
     returned.  The frame is put back."""
@@ -43,7 +43,8 @@ def frame_changes(scene, view_layer, plans):
     now = {plan.source: _layout(plan) for plan in plans}
     counts = {plan.source: [] for plan in plans}
     with _frame(scene):
-        for frame in (scene.frame_start, scene.frame_end):
+        for frame in sorted({scene.frame_start, (scene.frame_start + scene.frame_end) // 2,
+                             scene.frame_end}):
             if frame == scene.frame_current:
                 continue
             scene.frame_set(frame)
