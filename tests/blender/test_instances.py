@@ -616,6 +616,14 @@ def _state():
             sorted(bpy.data.node_groups.keys()))
 
 
+def _draw_panels(scene):
+    from types import SimpleNamespace
+
+    from test_panels import draw_all
+
+    return draw_all(SimpleNamespace(scene=scene, object=None, material=None))
+
+
 def test_linked_chairs_age_per_instance_when_the_artist_asks(chairs, tmp_path):
     """The four chairs instancing a collection linked from another .blend: skipped in one
     line until Age Linked Instances; then each chair bakes its own tile (sun > 3 × shade)
@@ -645,8 +653,13 @@ def test_linked_chairs_age_per_instance_when_the_artist_asks(chairs, tmp_path):
     (line,) = [s for s in result["skipped"] if "linked from" in s]
     assert "Age Linked Instances" in line and "\n" not in line
     meshes = sorted((m.name, m.library is not None) for m in bpy.data.meshes)
+    drawn = _draw_panels(scene)
+    assert ("label", "4 instances of linked collections: not aged") in drawn
+    assert ("operator", "lightfade.localize_linked") in drawn
     (said,) = api.localize_linked(scene)
     assert "4 instances now show \"LF Chair\"" in said
+    assert not bpy.ops.lightfade.localize_linked.poll()          # nothing linked left
+    assert ("operator", "lightfade.localize_linked") not in _draw_panels(scene)
     result = api.bake(scene)
     (chair,) = [o for o in bpy.data.objects if o.library is None and o.name.startswith("Chair")
                 and o.type == "MESH"]
