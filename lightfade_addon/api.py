@@ -25,7 +25,7 @@ From a checkout, ``import lightfade_addon.api`` after enabling ``lightfade_addon
 from __future__ import annotations
 
 __all__ = ["bake", "age_scene", "set_years", "keyframe_years", "apply_aging", "live_aging",
-           "reset", "material_plan", "set_parts", "set_daylight", "annual_dose", "AgingError"]
+           "reset", "localize_linked", "material_plan", "set_parts", "set_daylight", "annual_dose", "AgingError"]
 
 
 def _bpy():
@@ -70,6 +70,16 @@ def bake(scene=None, objects=None, resolution=None, samples=None, margin=None, u
         scene.lightfade_bake.max_minutes = float(max_minutes)
     settings = BakeSettings.from_scene(scene, unwrap=unwrap)
     return bake_exposure(scene, list(objects or []), settings, report=print, progress=progress)
+
+
+def localize_linked(scene=None):
+    """Age Linked Instances: each empty of ``scene`` instancing a collection linked from
+    another .blend instances a local one instead, holding local copies of its aging objects
+    (their meshes stay the library's); the bake then ages them per instance, and Reset with
+    the exposure puts the library's collections back.  Returns one line per collection."""
+    from .blender.bake.linked import localize
+
+    return localize(_scene(scene))
 
 
 def age_scene(scene=None, years=None, objects=(), progress=None):

@@ -16,6 +16,7 @@ from .aging.copies import copies_of, remove_copy
 from .daylight.view import clear_view
 from .exposure import remove_exposure, remove_instance_data, scene_objects
 from .aging.grids import purge
+from .bake import linked
 
 
 def remove_aged(copy):
@@ -51,6 +52,7 @@ def reset_scene(scene, exposure=False):
         meshes = [o for o in objects if o.type == "MESH"]
         remove_instance_data(meshes)             # each instancer's tile property too
         remove_exposure(scene, meshes)
+        linked.restore(scene)                    # the library's collections back
     agingdata.purge_tables()
     purge(scene, set())
     props = scene.lightfade

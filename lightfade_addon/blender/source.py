@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..output import captured
+from .bake.linked import is_local_copy
 from .exposure import exposure_problem, exposure_uv
 from .pixels import readable_colourspace
 
@@ -263,10 +264,11 @@ def material_plan(scene, obj, material, need_exposure=True):
         plan.problems.append(f"Object '{obj.name}' is a {obj.type.lower()}: LightFade ages "
                              "meshes (convert it: Object > Convert > Mesh)")
         return plan
-    if obj.library is not None or obj.data.library is not None:
+    copy = is_local_copy(obj)           # Age Linked Instances: mesh and material only read
+    if obj.library is not None or (obj.data.library is not None and not copy):
         plan.problems.append(f"Object '{obj.name}' is linked from a library: make it local "
                              "first (Object > Relations > Make Local)")
-    if material.library is not None:
+    if material.library is not None and not copy:
         plan.problems.append(f"Material '{material.name}' is linked from a library: make it "
                              "local first (Object > Relations > Make Local)")
     missing = exposure_problem(scene, obj)

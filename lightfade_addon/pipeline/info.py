@@ -155,7 +155,8 @@ def material_annual_doses(scene):
 def instances(scene):
     """Per source aged through its instances: how many placements its atlas holds (by
     kind: collection instances, geometry-nodes instances, the source itself), the atlas
-    size, and the instancers whose instances moved, appeared or went since the bake."""
+    size, the instancers whose instances moved, appeared or went since the bake, and why
+    they are aged as they stood at the bake's frame when they change with the frame."""
     entries = []
     layer = bpy.context.view_layer if bpy.context.scene == scene else scene.view_layers[0]
     depsgraph = bpy.context.evaluated_depsgraph_get()
@@ -170,6 +171,7 @@ def instances(scene):
             "collection": kinds.count("COLLECTION"), "geometry_nodes": kinds.count("GEOMETRY"),
             "itself": "OWN" in kinds, "atlas": list(maps[0].size) if maps else None,
             "stale": sorted({k.split("|")[0] or obj.name for k in stale_keys}),
+            "changes": obj.lightfade.instance_changes,
         })
     return entries
 
@@ -278,6 +280,8 @@ def as_text(report):
         moved = f"; stale: {', '.join(e['stale'])}" if e["stale"] else ""
         out.append(f"  instances of {e['object']}: {e['instances']} ({kinds}), atlas "
                    f"{'x'.join(map(str, e['atlas'] or []))}{moved}")
+        if e.get("changes"):
+            out.append(f"    {e['changes']}")
     out.append("  stale:" if report["stale"] else "  stale: nothing")
     out.extend(f"    {line}" for line in report["stale"])
     return "\n".join(out)

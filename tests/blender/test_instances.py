@@ -47,11 +47,11 @@ def _tiles(chair):
 
 def _book_tiles(book):
     """Mean lux of each book instance's tile (the LightFade modifier's data, in order)."""
-    from lightfade_addon.blender.bake.instance_tiles import data_objects
+    from lightfade_addon.blender.bake.instance_tiles import data_objects, data_tiles
 
     (data,) = data_objects()
     lux = _atlas(book)
-    return [_tile_mean(lux, v.co) for v in data.data.vertices]
+    return [_tile_mean(lux, rect) for rect in data_tiles(data)[1]]
 
 
 def test_each_instance_bakes_its_own_tile(chairs):
@@ -454,7 +454,7 @@ def test_geometry_nodes_instances_of_a_collection(chairs):
     """The line instancing the chair collection (Collection Info) instead of the book:
     eight more chair placements, each with its own tile by its top-level instance."""
     from lightfade_addon import api
-    from lightfade_addon.blender.bake.instance_tiles import data_objects
+    from lightfade_addon.blender.bake.instance_tiles import data_objects, data_tiles
 
     tree = chairs["books"].modifiers[0].node_group
     collection = tree.nodes.new("GeometryNodeCollectionInfo")
@@ -465,7 +465,7 @@ def test_geometry_nodes_instances_of_a_collection(chairs):
     api.bake(bpy.context.scene)
     (data,) = data_objects()
     lux = _atlas(chairs["chair"])
-    line = [_tile_mean(lux, v.co) for v in data.data.vertices]
+    line = [_tile_mean(lux, rect) for rect in data_tiles(data)[1]]
     assert len(line) == 8 and len(_tiles(chairs["chair"])) == 4
     # a chair is wider than a book: the fifth (x = 0.4) straddles the shadow's edge
     assert min(line[:4]) > 3 * max(line[5:]) and line[5] < line[4] < line[3], line
@@ -494,3 +494,195 @@ def test_years_view_of_an_instanced_source_per_tile(chairs):
     sun = [median(e) for e in chairs["empties"][:2]]
     shade = [median(e) for e in chairs["empties"][2:]]
     assert max(sun) < min(shade), (sun, shade)
+
+
+def _scatter(book, density):
+    """A 1 m² patch in the sun scattering ``book`` by Distribute Points on Faces (which
+    gives each point an ``id``)."""
+    bpy.ops.mesh.primitive_plane_add(size=1.0, location=(-2.0, 1.8, 0.0))
+    patch = bpy.context.active_object
+    patch.name = "Patch"
+    tree = bpy.data.node_groups.new("Patch Scatter", "GeometryNodeTree")
+    for side in ("INPUT", "OUTPUT"):
+        tree.interface.new_socket("Geometry", in_out=side, socket_type="NodeSocketGeometry")
+    nodes, links = tree.nodes, tree.links
+    spread = nodes.new("GeometryNodeDistributePointsOnFaces")
+    spread.inputs["Density"].default_value = density
+    spread.inputs["Seed"].default_value = 7
+    info = nodes.new("GeometryNodeObjectInfo")
+    info.inputs["Object"].default_value = book
+    info.inputs["As Instance"].default_value = True
+    place = nodes.new("GeometryNodeInstanceOnPoints")
+    links.new(nodes.new("NodeGroupInput").outputs[0], spread.inputs["Mesh"])
+    links.new(spread.outputs["Points"], place.inputs["Points"])
+    links.new(info.outputs["Geometry"], place.inputs["Instance"])
+    links.new(place.outputs[0], nodes.new("NodeGroupOutput").inputs[0])
+    patch.modifiers.new("Patch Scatter", "NODES").node_group = tree
+    return patch, spread
+
+
+def _read_tiles(instancer, name):
+    """``{position: tile}`` each evaluated instance of ``instancer`` reads under ``name``."""
+    from lightfade_addon.blender.bake.instance_tiles import evaluated_instances
+
+    positions, attributes = evaluated_instances(instancer, (name,))
+    return {tuple(np.round(p, 5)): tuple(np.round(t, 6))
+            for p, t in zip(positions, attributes[name])}
+
+
+def test_geometry_nodes_instances_keep_their_tiles_when_others_are_added(chairs):
+    """Instances added before others (a book inserted at the line's start, a higher density
+    of a Distribute Points scatter): every instance baked keeps its tile (found by its
+    position, not by its index, which shifts), the same seed evaluated again gives the
+    same tiles, the new ones read a neighbour's tile and are said stale until a re-bake."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging.apply import stale_message
+
+    scene = bpy.context.scene
+    book, books = chairs["book"], chairs["books"]
+    patch, spread = _scatter(book, 12.0)
+    api.bake(scene)
+    copies = api.age_scene(scene, years=10)
+    (copy,) = [c for c in copies if c.lightfade.aged_object.name == "Book"]
+    name = book.lightfade.instance_tiles
+    line_before, patch_before = _read_tiles(books, name), _read_tiles(patch, name)
+    assert len(line_before) == 8 and len(patch_before) >= 8
+    assert len(set(line_before.values()) | set(patch_before.values())) == \
+        len(line_before) + len(patch_before)                   # a tile each
+
+    start, step, count = instanced_chairs.BOOKS
+    line = next(n for n in books.modifiers[0].node_group.nodes
+                if n.bl_idname == "GeometryNodeMeshLine")
+    line.inputs["Count"].default_value = count + 1
+    line.inputs["Start Location"].default_value[0] = start - step
+    spread.inputs["Density"].default_value = 36.0
+    spread.inputs["Seed"].default_value = 8                     # and back: the same points
+    bpy.context.view_layer.update()
+    spread.inputs["Seed"].default_value = 7
+    bpy.context.view_layer.update()
+    line_after, patch_after = _read_tiles(books, name), _read_tiles(patch, name)
+    assert len(line_after) == 9 and len(patch_after) > 2 * len(patch_before)
+    assert {p: line_after[p] for p in line_before} == line_before
+    assert {p: patch_after[p] for p in patch_before} == patch_before
+    first = min(line_before)                                    # the new book: its neighbour's
+    assert line_after[min(line_after)] == line_before[first]
+    message = stale_message(scene, copy)
+    assert "Books" in message and "Patch" in message
+    api.bake(scene)
+    assert stale_message(scene, copy) == ""
+    assert len(set(_read_tiles(books, name).values())) == 9
+
+
+def test_instances_that_change_with_the_frame_are_said_once(chairs):
+    """A scatter whose count is animated (8 books at frame 1, 12 at frame 10): the bake
+    says once why it holds frame 1's instances, ``info`` repeats it, the frame is put
+    back; instances that do not change say nothing."""
+    from lightfade_addon import api
+    from lightfade_addon.pipeline.info import as_text, gather
+
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 10
+    scene.frame_set(1)
+    result = api.bake(scene)
+    assert not [n for n in result["notes"] if "change with the frame" in n]
+    line = next(n for n in chairs["books"].modifiers[0].node_group.nodes
+                if n.bl_idname == "GeometryNodeMeshLine")
+    count = line.inputs["Count"]
+    count.keyframe_insert("default_value", frame=1)
+    count.default_value = 12
+    count.keyframe_insert("default_value", frame=10)
+    scene.frame_set(1)
+    result = api.bake(scene)
+    said = [n for n in result["notes"] if "change with the frame" in n]
+    assert len(said) == 1 and "\n" not in said[0], result["notes"]
+    assert said[0].startswith("\"Book\": ") and "12 at frame 10" in said[0] \
+        and "8 at frame 1, baked" in said[0], said
+    assert scene.frame_current == 1 and count.default_value == 8
+    assert as_text(gather(scene)).count(said[0]) == 1
+
+
+def _state():
+    """What Reset must put back: objects (library, collection instanced, custom properties,
+    slots), collections, meshes, materials, images, node groups."""
+    return ({(o.name, o.library is not None): (
+                o.instance_collection and (o.instance_collection.name,
+                                           o.instance_collection.library is not None),
+                sorted(k for k in o.keys() if not k.startswith("lightfade")),
+                [(s.link, s.material and s.material.name) for s in o.material_slots])
+             for o in bpy.data.objects},
+            sorted((c.name, c.library is not None) for c in bpy.data.collections),
+            sorted((m.name, m.library is not None) for m in bpy.data.meshes),
+            sorted(m.name for m in bpy.data.materials), sorted(i.name for i in bpy.data.images),
+            sorted(bpy.data.node_groups.keys()))
+
+
+def _draw_panels(scene):
+    from types import SimpleNamespace
+
+    from test_panels import draw_all
+
+    return draw_all(SimpleNamespace(scene=scene, object=None, material=None))
+
+
+def test_linked_chairs_age_per_instance_when_the_artist_asks(chairs, tmp_path):
+    """The four chairs instancing a collection linked from another .blend: skipped in one
+    line until Age Linked Instances; then each chair bakes its own tile (sun > 3 × shade)
+    through one local copy of the chair (its mesh the library's: no mesh copied), the
+    library's objects untouched; the saved file renders the chairs in the sun faded and
+    those in the shade not, without LightFade; reopened it keeps its aged material and tiles;
+    Reset with the exposure puts the library's collection back exactly."""
+    from lightfade_addon import api
+
+    library = tmp_path / "library.blend"
+    bpy.data.libraries.write(str(library), {chairs["collection"]})
+    with bpy.data.libraries.load(str(library), link=True) as (_src, dst):
+        dst.collections = ["Chair"]
+    linked = dst.collections[0]
+    for empty in chairs["empties"]:
+        empty.instance_collection = linked
+    mesh = chairs["chair"].data
+    bpy.data.objects.remove(chairs["chair"])
+    bpy.data.collections.remove(chairs["collection"])
+    bpy.data.meshes.remove(mesh)
+    bpy.data.materials.remove(chairs["material"])             # the library's from here on
+    scene = bpy.context.scene
+    _top_camera(scene)                          # rendered without LightFade, library linked
+    before = _state()
+    result = api.bake(scene)
+    assert sorted(result["maps"]) == ["Book"]
+    (line,) = [s for s in result["skipped"] if "linked from" in s]
+    assert "Age Linked Instances" in line and "\n" not in line
+    meshes = sorted((m.name, m.library is not None) for m in bpy.data.meshes)
+    drawn = _draw_panels(scene)
+    assert ("label", "4 instances of linked collections: not aged") in drawn
+    assert ("operator", "lightfade.localize_linked") in drawn
+    (said,) = api.localize_linked(scene)
+    assert "4 instances now show \"LF Chair\"" in said
+    assert not bpy.ops.lightfade.localize_linked.poll()          # nothing linked left
+    assert ("operator", "lightfade.localize_linked") not in _draw_panels(scene)
+    result = api.bake(scene)
+    (chair,) = [o for o in bpy.data.objects if o.library is None and o.name.startswith("Chair")
+                and o.type == "MESH"]
+    assert chair.data.library is not None and sorted(result["maps"]) == ["Book", chair.name]
+    assert not [m for m in bpy.data.meshes if m.library is None and
+                (m.name, False) not in meshes and not m.name.startswith("LF_Tiles_")]
+    tiles = _tiles(chair)
+    assert min(tiles["Chair 1"], tiles["Chair 2"]) > 3 * max(tiles["Chair 3"], tiles["Chair 4"])
+    api.age_scene(scene, years=0)
+    chair_fades, _books = _fade_per_chair(tmp_path, "CYCLES")
+    assert min(chair_fades[:2]) > 5 and max(chair_fades[2:]) < 0.4 * min(chair_fades[:2]), \
+        chair_fades
+    original = [o for o in bpy.data.objects if o.library is not None and o.type == "MESH"]
+    assert [(s.link, s.material.name) for o in original for s in o.material_slots] == \
+        [("DATA", "Chair Fabric")]
+    path, name = tmp_path / "linked.blend", chair.name
+    bpy.ops.wm.save_as_mainfile(filepath=str(path))
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    chair = bpy.data.objects[name, None]
+    assert chair.material_slots[0].link == "OBJECT"
+    assert chair.material_slots[0].material.name.startswith("LF_Aged_")
+    assert all(bpy.data.objects[f"Chair {i}"].instance_collection.name == "LF Chair"
+               and chair.lightfade.instance_tiles in bpy.data.objects[f"Chair {i}"].keys()
+               for i in range(1, 5))
+    api.reset(bpy.context.scene, exposure=True)
+    assert _state() == before

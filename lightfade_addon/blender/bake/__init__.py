@@ -27,6 +27,8 @@ Modules, one job each:
 ``instances`` collection and geometry-nodes instances: placements, tiles of one atlas per source
 ``stand_in`` the temporary mesh an instanced source is baked as (every placement, UVs in tiles)
 ``instance_tiles`` the geometry-nodes modifier that gives each instance its tile
+``instance_frames`` instances that change with the frame, said once
+``linked``   collections linked from a library: local copies of their aging objects, on request
 ``maps``     storing maps; reading them back for aging; signature; removal
 ``panel``    the Exposure Bake panel's contents
 """

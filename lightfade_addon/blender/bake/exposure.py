@@ -23,7 +23,7 @@ from . import adaptive
 from . import batch as _batch
 from . import daylight as _daylight
 from . import geometry as _geometry
-from . import instances as _instances
+from . import instance_frames, instances as _instances
 from . import panes as _panes
 from . import portals as _portals
 from . import sizing
@@ -101,13 +101,15 @@ class ExposureBake:
                 "select mesh objects, or enable LightFade on their materials "
                 "(Material Properties > LightFade)")))
         targets, warnings, problems = validate_targets(objects + list(plans),
-                                                       self.settings.unwrap)
+                                                       self.settings.unwrap, plans)
         for msg in warnings:
             self._warn(msg)
         self.instance_plans = [plans[o] for o in targets if o in plans]
         targets = [o for o in targets if o not in plans]
         problems += _instances.plan_tiles(self.instance_plans, depsgraph, self.settings,
                                           self._note)
+        for line in instance_frames.frame_changes(scene, layer, self.instance_plans):
+            self._note(line)
         targets = _instances.bakeable(targets, layer, self._warn)
         emitters = find_emitters(scene, layer)
         self._note(uncounted_note(uncounted_emissive(scene, layer)))

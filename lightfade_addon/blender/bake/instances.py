@@ -71,9 +71,16 @@ class Placement:
 
     @property
     def key(self):
-        """Identity of the placement: instancer name and persistent id."""
-        return f"{self.instancer.name if self.instancer else ''}|{self.kind}|" \
-               f"{','.join(str(i) for i in self.pid)}"
+        """Identity of the placement: instancer name, kind and persistent id; for a
+        geometry-nodes instance the levels inside its top-level instance and its world
+        location (to 0.1 mm) instead of its index, which shifts when instances are added
+        before it (its tile is found by its position, :mod:`.instance_tiles`)."""
+        name = self.instancer.name if self.instancer else ""
+        if self.kind == "GEOMETRY":
+            used = [v for v in self.pid if v != _UNUSED]
+            where = ",".join(f"{v:.4f}" for v in self.matrix.translation)
+            return f"{name}|GEOMETRY|{','.join(str(i) for i in used[:-1])}@{where}"
+        return f"{name}|{self.kind}|{','.join(str(i) for i in self.pid)}"
 
 
 @dataclass
@@ -85,6 +92,7 @@ class SourcePlan:
     tile: int = 16
     uv: object = None          # the UvPlan of the source (once planned)
     stand_in: object = None    # the temporary object baked in their place
+    changes: str = ""          # how its placements change between frames (one line)
 
     @property
     def grid(self):
@@ -157,12 +165,18 @@ def find_placements(depsgraph, view_layer, chosen=(), warn=None):
 
 
 def linked_note(source, placements):
-    """One line for a source linked from a library: its instances are not aged."""
+    """One line for a source linked from a library: its instances are not aged (what to
+    do: Age Linked Instances for collection instances, :mod:`.linked`)."""
     lib = source.library or source.override_library.reference.library
-    return (f"Skipped \"{source.name}\" ({len(placements)} instances): it is linked from "
-            f"\"{lib.filepath if lib else 'a library'}\", whose objects cannot hold an aged "
-            "material; make its collection local (Object > Relations > Make Local) to age "
-            "its instances")
+    head = (f"Skipped \"{source.name}\" ({len(placements)} instances): it is linked from "
+            f"\"{lib.filepath if lib else 'a library'}\", whose objects cannot keep an aged "
+            "material; ")
+    if any(p.kind == "COLLECTION" for p in placements):
+        return head + ("press Age Linked Instances (Exposure Bake panel) to age its collection "
+                       "instances through local copies of its aging objects (the meshes stay "
+                       "the library's; Reset puts the library's collection back)")
+    return head + ("geometry nodes instance it: make its collection local (Object > "
+                   "Relations > Make Local) to age them")
 
 
 def planned(depsgraph, view_layer, settings, chosen=()):
@@ -189,21 +203,22 @@ def tile_width(source_size, source_matrix, placements, max_size):
 
 def shared_note(plan):
     """Geometry-nodes placements of one source under one top-level instance (a collection
-    instanced by geometry nodes that holds the source twice) share that instance's
-    attribute: the first is baked, the others read its tile.  Drops them; one line."""
+    instanced by geometry nodes that holds the source twice), or at one place, share that
+    instance's attribute: the first is baked, the others read its tile.  Drops them; one
+    line."""
     seen, kept, dropped = set(), [], 0
     for p in plan.placements:
-        key = (p.instancer, p.index) if p.kind == "GEOMETRY" else id(p)
-        if key in seen:
+        keys = {(p.instancer, p.index), p.key} if p.kind == "GEOMETRY" else {id(p)}
+        if keys & seen:
             dropped += 1
             continue
-        seen.add(key)
+        seen |= keys
         kept.append(p)
     plan.placements = kept
     if not dropped:
         return ""
     return (f"\"{plan.source.name}\" appears {dropped + 1}+ times inside one geometry-nodes "
-            "instance: its copies there share one tile (the first one's light)")
+            "instance or at one place: its copies there share one tile (the first one's light)")
 
 
 def plan_tiles(plans, depsgraph, settings, note, diagnose=True):
@@ -267,7 +282,7 @@ def write_tiles(plan):
     """Store each placement's tile where the material reads it; forget older tiles."""
     name = tile_attribute(plan.source)
     clear_tiles(name)
-    scattered = {}                                # geometry-nodes instancer -> {index: k}
+    scattered = {}                                # geometry-nodes instancer -> {id: k}
     for k, placement in enumerate(plan.placements):
         holder = placement.instancer if placement.instancer is not None else plan.source
         if placement.kind in ("OWN", "COLLECTION"):
@@ -275,13 +290,15 @@ def write_tiles(plan):
         else:
             scattered.setdefault(holder, {})[placement.index] = k
     for instancer, tiles in scattered.items():
-        rects = np.zeros((max(tiles) + 1, 3), dtype=np.float32)
-        for index, k in tiles.items():
-            rects[index] = plan.rect(k)
-        instance_tiles.write(instancer, name, rects)
+        matrices = {i: plan.placements[k].matrix for i, k in tiles.items()}
+        found = sorted(instance_tiles.positions(instancer, tiles, matrices).items(),
+                       key=lambda t: t[1][0])
+        instance_tiles.write(instancer, name, [pos for _i, (_row, pos) in found],
+                             [plan.rect(tiles[i]) for i, _ in found])
     props = plan.source.lightfade
     props.instance_tiles = name
     props.instance_record = record(plan)
+    props.instance_changes = plan.changes
 
 
 def clear_tiles(name):
@@ -301,6 +318,7 @@ def remove_instance_data(objects):
             clear_tiles(props.instance_tiles)
             props.instance_tiles = ""
             props.instance_record = ""
+            props.instance_changes = ""
 
 
 def instance_sources(scene=None):

@@ -17,6 +17,7 @@ from .emitters import (
 )
 from .settings import BakeSettings
 from . import instances
+from .linked import linked_instancers
 from .sizing import planned_map
 from .presets import PRESETS
 from .targets import find_targets, validate_targets
@@ -126,6 +127,12 @@ def draw_bake_panel(layout, context):
     plans = instances.planned(depsgraph, view_layer, settings,
                               getattr(context, "selected_objects", None) or ())
     targets, _, _ = validate_targets([o for o in selected if o not in plans], True)
+    linked = linked_instancers(scene)
+    if linked:                                   # skipped by the bake unless the artist asks
+        row = layout.row()
+        row.label(text=f"{plural(len(linked), 'instance')} of linked collections: not aged",
+                  icon="LIBRARY_DATA_DIRECT")
+        row.operator("lightfade.localize_linked", text="Age Them")
     if (targets or plans) and groups:
         sizes = {o.name: _size(o, depsgraph, settings) for o in targets}
         box = layout.box()

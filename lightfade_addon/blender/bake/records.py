@@ -112,6 +112,11 @@ class LIGHTFADE_PG_object(PropertyGroup):
         description="The placements baked into the atlas (instancer, id, world matrix), to "
         "tell instances that moved, appeared or went",
     )
+    instance_changes: StringProperty(
+        name="Instance Changes",
+        description="Why the instances are aged as they stand at the bake's frame only "
+        "(they change with the frame), said by the bake and info; empty: they do not",
+    )
 
 
 QUALITY_ITEMS = tuple(

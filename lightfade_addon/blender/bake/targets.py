@@ -35,8 +35,10 @@ def find_targets(scene, selected=None):
                                           for s in obj.material_slots)]
 
 
-def validate_targets(objects, unwrap):
+def validate_targets(objects, unwrap, instanced=()):
     """Split ``objects`` into bakeable meshes, warnings (skipped) and problems (refusals).
+    ``instanced``: local objects baked through a stand-in (:mod:`.stand_in`), whose mesh
+    is only read and so may be a library's (:mod:`.linked`).
 
     Returns ``(targets, warnings, problems)``; every message names the object.
     """
@@ -45,7 +47,8 @@ def validate_targets(objects, unwrap):
         if obj.type != "MESH":
             warnings.append(f"Skipped \"{obj.name}\": not a mesh ({obj.type.lower()}); only "
                             "meshes get exposure maps")
-        elif _is_linked(obj):
+        elif _is_linked(obj) and not (obj in instanced and obj.library is None
+                                      and obj.override_library is None):
             problems.append(f"\"{obj.name}\" is linked from a library: make local first "
                             "(Object > Relations > Make Local)")
         elif len(obj.data.polygons) == 0 and not obj.modifiers:  # modifiers may make faces
