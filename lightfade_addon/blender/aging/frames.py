@@ -132,12 +132,15 @@ _WRITTEN = {}
 class Held:
     """What a frame image was written from: the twin's key (:func:`.runtime.twin_key`:
     table, signature, exposure, size, the colour's CRC), the years, the image's size,
-    and the colour's :func:`source_state` (None: read the colour to compare)."""
+    the colour's :func:`source_state` (None: read the colour to compare) and, where
+    that state is known, the colour itself ((H, W, 4) float32 linear: the next years
+    value ages it without reading the texture again)."""
 
     key: tuple
     years: float
     size: tuple
     state: tuple | None
+    colour: object = None
 
 
 def source_state(copy):
@@ -195,16 +198,22 @@ def write_frame(scene, copy, years):
         ensure_albedo(scene, copy)
     state = source_state(copy)
     held = _WRITTEN.get(image.as_pointer())
-    same = (held is not None and held.years == years and tuple(image.size) == held.size
-            and held.key[:-2] == runtime.inputs_key(scene, copy))
-    if same and state is not None and held.state == state:
+    inputs = runtime.inputs_key(scene, copy)
+    same = (held is not None and tuple(image.size) == held.size and held.key[:-2] == inputs)
+    known = same and state is not None and held.state == state
+    if known and held.years == years:
         return image
-    rgba = original_pixels(scene, copy)
+    if known and held.colour is not None:            # the colour held: not read again
+        colour = held.colour
+        rgba, key = colour.copy(), (*inputs, *held.key[-2:])
+    else:
+        rgba = original_pixels(scene, copy)
+        key = runtime.twin_key(scene, copy, rgba)
+        if same and held.key == key and held.years == years:
+            held.state, held.colour = state, None if state is None else rgba
+            return image
+        colour = None if state is None else rgba.copy()
     H, W = rgba.shape[:2]
-    key = runtime.twin_key(scene, copy, rgba)
-    if same and held.key == key:
-        held.state = state
-        return image
     runtime.aged_rgb(scene, copy, rgba, years, key=key)
     if tuple(image.size) != (W, H):
         image.generated_width, image.generated_height = W, H
@@ -212,7 +221,7 @@ def write_frame(scene, copy, years):
     image.pixels.foreach_set(rgba.reshape(-1))
     image.update()
     image["lightfade_years"] = years
-    _WRITTEN[image.as_pointer()] = Held(key, years, (W, H), state)
+    _WRITTEN[image.as_pointer()] = Held(key, years, (W, H), state, colour)
     return image
 
 
