@@ -169,6 +169,13 @@ def prepare_texels(table, rates):
                           np.zeros((n, 3), np.float32))
 
 
+def _mix(prep, at):
+    """Light-mix ``slots``, ``weights`` of the texels ``at``."""
+    if prep.slots is None:
+        return np.zeros((len(at), 1), np.int32), None
+    return prep.slots[at], prep.weights[at]
+
+
 def _refresh(table, cells, prep, rgb, s0, s1, t0):
     """Evaluate the band at nodes ``t0`` (block ``s0:s1``) where it is elsewhere.
 
@@ -185,20 +192,16 @@ def _refresh(table, cells, prep, rgb, s0, s1, t0):
         prep.u[at[fresh]] = _coordinates(table, cells, rgb[at[fresh]])
     up = (old == new - 1) & ~fresh
     down = old == new + 1
-    lo_old, step_old = prep.lo[at], prep.step[at]
-    need_lo, need_hi = np.flatnonzero(~up), np.flatnonzero(~down)
-    rows = np.concatenate([need_lo, need_hi])
-    if prep.slots is None:
-        slots, weights = np.zeros((rows.size, 1), np.int32), None
-    else:
-        slots, weights = prep.slots[at[rows]], prep.weights[at[rows]]
-    found = _node(table, cells, prep.u[at[rows]], slots, weights,
-                  np.concatenate([new[need_lo], new[need_hi] + 1]))
-    lo, hi = np.empty_like(lo_old), np.empty_like(lo_old)
-    lo[up] = lo_old[up] + step_old[up]
-    hi[down] = lo_old[down]
-    lo[need_lo] = found[:need_lo.size]
-    hi[need_hi] = found[need_lo.size:]
+    slots, weights = _mix(prep, at)
+    u = prep.u[at]
+    found = _node(table, cells, u, slots, weights, new + up)     # up: t0 + 1, else t0
+    lo_old = prep.lo[at]
+    lo = np.where(up[:, None], lo_old + prep.step[at], found)
+    hi = np.where(up[:, None], found, lo_old)                    # down: the old t0
+    far = np.flatnonzero(~(up | down))                           # new, or moved further
+    if far.size:
+        hi[far] = _node(table, cells, u[far], slots[far],
+                        None if weights is None else weights[far], new[far] + 1)
     prep.lo[at] = lo
     prep.step[at] = hi - lo
     prep.t0[at] = new
