@@ -13,14 +13,18 @@ Printed:
 
 * **images** — wall seconds per Mtexel of writing every aged copy's frame image
   (:func:`lightfade_addon.blender.aging.frames.write_frames`, what a render's
-  ``render_pre`` does, Apply's evaluator) at a years value first met, the same
-  years again, 0.1 year later; and ``api.apply_aging`` once;
+  ``render_pre`` does, Apply's evaluator): the first call (every band evaluated), the
+  same years again, 0.1 year later, 20 % more years; and ``api.apply_aging`` once;
 * **Cycles** — CPU seconds (process time: every thread, the handler included) of the
-  frame at ``--years``: with the frame images (LightFade installed: the first frame at
-  a new years value, then the same frame again), with the live material only (the
-  handler taken out: what renders where LightFade is absent), and after Reset; two
-  renders each, the smaller counts; ratios against Reset; and the ΔE00 between the
-  frame-image render and the live render (8 × 8-pixel means, same seed) beside the
+  frame at ``--years``, two renders each (the smaller counts) unless said: after Reset;
+  with the aged colours as plain image textures (``api.apply_aging``: what the aged
+  room costs as image textures — an aged room is lighter than the original, and
+  longer light paths cost Cycles more); with the frame images (LightFade installed) —
+  the same frame again, the first frame at a years value the images and bands have
+  not met (20 % fewer years, then back), a time-lapse step (+0.1 year a frame); with
+  the live material only (the handler taken out: what renders where LightFade is
+  absent); ratios against Reset and against the image textures; and the ΔE00 between
+  the frame-image render and the live render (8 × 8-pixel means, same seed) beside the
   same figure for the live render at another seed (the noise floor);
 * **EEVEE** (``--eevee``) — wall seconds of the first and second render after Reset
   and after Age (EEVEE renders the live material: no frame images for it), and the
