@@ -105,6 +105,25 @@ class TestBand:
         np.testing.assert_allclose(evaluate_prepared(table, prep, rgb, 10.0),
                                    evaluate(table, rgb, rates, 10.0), atol=2e-5)
 
+    @pytest.mark.parametrize("S", [1, 2])
+    def test_blocks_where_every_texel_moved_match(self, monkeypatch, S):
+        """Blocks whose every texel moved are refreshed as one slice: in blocks past
+        the first, with some texels new (no band yet) among them, the result still
+        matches."""
+        monkeypatch.setattr(prep_module, "_BLOCK", 700)
+        table = random_table(S)
+        rgb, rates = texels(S)
+        prep = prepare_texels(table, rates)
+        cells = table_cells(table)
+        evaluate_prepared(table, prep, rgb, 0.01, cells=cells)
+        other = rgb.copy()
+        other[::3] = rgb[::-3]                                   # new colours, no band yet
+        prep.t0[::3] = -1
+        before = prep.t0.copy()
+        got = evaluate_prepared(table, prep, other, 1e9, cells=cells)
+        np.testing.assert_allclose(got, evaluate(table, other, rates, 1e9), atol=2e-5)
+        assert (prep.t0 != before)[700:].all()                   # past the first block
+
     def test_colour_count_must_match(self):
         table = random_table(1)
         rgb, rates = texels(1)

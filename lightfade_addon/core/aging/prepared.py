@@ -169,10 +169,10 @@ def prepare_texels(table, rates):
                           np.zeros((n, 3), np.float32))
 
 
-def _mix(prep, at):
-    """Light-mix ``slots``, ``weights`` of the texels ``at``."""
+def _mix(prep, at, n):
+    """Light-mix ``slots``, ``weights`` of the ``n`` texels ``at`` (indices or a slice)."""
     if prep.slots is None:
-        return np.zeros((len(at), 1), np.int32), None
+        return np.zeros((n, 1), np.int32), None
     return prep.slots[at], prep.weights[at]
 
 
@@ -181,25 +181,33 @@ def _refresh(table, cells, prep, rgb, s0, s1, t0):
 
     A texel whose node moved by one keeps one end of its band (up: the old ``t0 + 1``
     is the new ``t0``; down: the old ``t0`` the new ``t0 + 1``) and evaluates one node;
-    other moves evaluate two; the unmixing coordinates are kept from the first."""
+    other moves evaluate two; the unmixing coordinates are kept from the first. Where
+    every texel of the block moved (a first call, a long jump) its rows are read and
+    written as one slice, not gathered and scattered one by one."""
     moved = np.flatnonzero(prep.t0[s0:s1] != t0)
     if moved.size == 0:
         return
-    at = moved + s0
-    old, new = prep.t0[at].astype(np.int32), t0[moved]
+    whole = moved.size == s1 - s0
+    at, new = (slice(s0, s1), t0) if whole else (moved + s0, t0[moved])
+    old = prep.t0[at].astype(np.int32)
     fresh = old < 0
-    if fresh.any():
-        prep.u[at[fresh]] = _coordinates(table, cells, rgb[at[fresh]])
+    if fresh.all():
+        prep.u[at] = _coordinates(table, cells, rgb[at])
+    elif fresh.any():
+        rows = np.flatnonzero(fresh) + s0 if whole else at[fresh]
+        prep.u[rows] = _coordinates(table, cells, rgb[rows])
     up = (old == new - 1) & ~fresh
     down = old == new + 1
-    slots, weights = _mix(prep, at)
+    slots, weights = _mix(prep, at, new.size)
     u = prep.u[at]
     found = _node(table, cells, u, slots, weights, new + up)     # up: t0 + 1, else t0
     lo_old = prep.lo[at]
     lo = np.where(up[:, None], lo_old + prep.step[at], found)
     hi = np.where(up[:, None], found, lo_old)                    # down: the old t0
     far = np.flatnonzero(~(up | down))                           # new, or moved further
-    if far.size:
+    if far.size == new.size:
+        hi = _node(table, cells, u, slots, weights, new + 1)
+    elif far.size:
         hi[far] = _node(table, cells, u[far], slots[far],
                         None if weights is None else weights[far], new[far] + 1)
     prep.lo[at] = lo
