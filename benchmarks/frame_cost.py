@@ -13,14 +13,18 @@ Printed:
 
 * **images** — wall seconds per Mtexel of writing every aged copy's frame image
   (:func:`lightfade_addon.blender.aging.frames.write_frames`, what a render's
-  ``render_pre`` does, Apply's evaluator) at a years value first met, the same
-  years again, 0.1 year later; and ``api.apply_aging`` once;
+  ``render_pre`` does, Apply's evaluator): the first call (every band evaluated), the
+  same years again, 0.1 year later, 20 % more years; and ``api.apply_aging`` once;
 * **Cycles** — CPU seconds (process time: every thread, the handler included) of the
-  frame at ``--years``: with the frame images (LightFade installed: the first frame at
-  a new years value, then the same frame again), with the live material only (the
-  handler taken out: what renders where LightFade is absent), and after Reset; two
-  renders each, the smaller counts; ratios against Reset; and the ΔE00 between the
-  frame-image render and the live render (8 × 8-pixel means, same seed) beside the
+  frame at ``--years``, two renders each (the smaller counts) unless said: after Reset;
+  with the aged colours as plain image textures (``api.apply_aging``: what the aged
+  room costs as image textures — an aged room is lighter than the original, and
+  longer light paths cost Cycles more); with the frame images (LightFade installed) —
+  the same frame again, the first frame at a years value the images and bands have
+  not met (20 % fewer years, then back), a time-lapse step (+0.1 year a frame); with
+  the live material only (the handler taken out: what renders where LightFade is
+  absent); ratios against Reset and against the image textures; and the ΔE00 between
+  the frame-image render and the live render (8 × 8-pixel means, same seed) beside the
   same figure for the live render at another seed (the noise floor);
 * **EEVEE** (``--eevee``) — wall seconds of the first and second render after Reset
   and after Age (EEVEE renders the live material: no frame images for it), and the
@@ -98,12 +102,14 @@ def _camera(scene):
 
 
 def image_rate(scene, years):
-    """Seconds per Mtexel of writing the frame images: new years, same, +0.1 year."""
+    """Seconds per Mtexel of writing the frame images: the first call (every band
+    evaluated), the same years again, 0.1 year later, 20 % more years; Apply."""
     from lightfade_addon import api
     from lightfade_addon.blender.aging import frames
 
     out = {}
-    for label, y in (("new years", years), ("same years", years), ("+0.1 year", years + 0.1)):
+    for label, y in (("first call", years), ("same years", years), ("+0.1 year", years + 0.1),
+                     ("+20 %", years * 1.2)):
         t0 = time.perf_counter()
         images = frames.write_frames(scene, y)
         wall = time.perf_counter() - t0
@@ -154,24 +160,41 @@ def main(argv=None):
         return min(r[0] for r in runs), runs[0][2]
 
     cycles = lambda n: _render(scene, "CYCLES", args.samples, res, folder, n)   # noqa: E731
-    api.set_years(scene, Y * 0.8)
-    first = cycles("first")[0]                     # a years value the images have not met
-    api.set_years(scene, Y)
     cpu, px = {}, {}
-    cpu["first"] = first
+    firsts = []
+    for k, y in enumerate((Y * 0.8, Y)):          # each a years value the images have not met
+        api.set_years(scene, y)
+        firsts.append(cycles(f"first{k}")[0])
+    cpu["first"] = min(firsts)
     cpu["frames"], px["frames"] = pair("frames", cycles)
+    steps = []
+    for k in range(2):                           # a time-lapse: 0.1 year a frame
+        api.set_years(scene, Y + 0.1 * (k + 1))
+        steps.append(cycles(f"step{k}")[0])
+    cpu["step"] = min(steps)
+    api.set_years(scene, Y)
     cpu["live"], px["live"] = _live_only(lambda: pair("live", cycles))
     scene.cycles.seed = 1
     px["seed"] = _live_only(lambda: cycles("seed"))[2]
     scene.cycles.seed = 0
+    api.apply_aging(scene, Y)                    # the aged colours as plain image textures
+    cpu["applied"], _px = pair("applied", cycles)
+    api.live_aging(scene)
     api.reset(scene)
     cpu["reset"], _px = pair("reset", cycles)
-    r = cpu["reset"]
-    print(f"Cycles {res[0]}x{res[1]}, {args.samples} spp, CPU s: after Reset {r:.2f}; "
-          f"aged at {Y:g} years (target <= 1.15x):")
-    print(f"  frame images, first frame at new years {cpu['first']:7.2f} s: {cpu['first'] / r:.2f}x")
-    print(f"  frame images                           {cpu['frames']:7.2f} s: {cpu['frames'] / r:.2f}x")
-    print(f"  live material (LightFade absent)       {cpu['live']:7.2f} s: {cpu['live'] / r:.2f}x")
+    r, a = cpu["reset"], cpu["applied"]
+    print(f"Cycles {res[0]}x{res[1]}, {args.samples} spp, CPU s, aged at {Y:g} years; ratios "
+          f"against the frame after Reset (target <= 1.15x) and against the aged colours "
+          f"as image textures (Apply to Images):")
+    rows = (("after Reset", "reset"),
+            ("Apply to Images (image textures)", "applied"),
+            ("frame images, same frame again", "frames"),
+            ("frame images, first frame at new years", "first"),
+            ("frame images, time-lapse step +0.1 y", "step"),
+            ("live material (LightFade absent)", "live"))
+    for label, key in rows:
+        print(f"  {label:40s} {cpu[key]:7.2f} s: {cpu[key] / r:.2f}x Reset, "
+              f"{cpu[key] / a:.2f}x Apply")
     for name, label in (("frames", "frame images vs live"), ("seed", "live, another seed (noise)")):
         d = block_dE(px[name], px["live"])
         print(f"  {label:27s}: dE00 of 8x8 means p50 {np.median(d):.2f}, "

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import os
+import zlib
+
+import bpy
 import numpy as np
 
 from ..core.colour.colorimetry import srgb_decode
@@ -75,6 +79,35 @@ def read_linear(image):
     if not image.is_float and image.colorspace_settings.name.lower() in SRGB_SPACES:
         rgba[..., :3] = decode_srgb_bytes(rgba[..., :3])
     return rgba
+
+
+def stored_state(image):
+    """What the pixels of ``image`` are, when they are what it was loaded or generated
+    from: a hashable tuple (the image, its size, buffer and colour space, and its file's
+    path, size and modification time, its packed data's CRC-32, or its generator's
+    settings), read without its pixels; None when they may be something else — an image
+    changed since it was loaded, saved or packed (``is_dirty``: painted, baked, written
+    from Python), or of another source (tiles, sequence, movie) — and must be read.
+
+    Pixels reach a clean image only from its file, its packed data or its generator, so
+    two equal states hold equal pixels (a painted image packed again has new packed
+    data; saved, a file with a new modification time)."""
+    if image.is_dirty or image.source not in ("FILE", "GENERATED"):
+        return None
+    state = (image.as_pointer(), image.name_full, image.source, tuple(image.size),
+             image.is_float, image.channels, image.colorspace_settings.name, image.alpha_mode)
+    if image.source == "GENERATED":
+        return (*state, image.generated_type, tuple(image.generated_color),
+                image.use_generated_float, image.generated_width, image.generated_height)
+    if image.packed_file is not None:
+        data = image.packed_file.data
+        return (*state, "packed", len(data), zlib.crc32(data))
+    path = bpy.path.abspath(image.filepath_raw, library=image.library)
+    try:
+        stat = os.stat(path)
+    except OSError:
+        return None
+    return (*state, "file", path, stat.st_size, stat.st_mtime_ns)
 
 
 def resample(a, shape):

@@ -30,7 +30,9 @@ def assert_holds(image, linear):
 
     assert not image.is_float and image.colorspace_settings.name == "sRGB"
     codes = np.rint(rgba(image)[..., :3] * 255.0)
-    np.testing.assert_array_equal(codes, np.rint(encode_srgb(linear[..., :3]) * 255.0))
+    encoded = encode_srgb(linear[..., :3]).astype(np.float32)     # Blender's rounding:
+    want = np.floor(np.float32(255.0) * encoded + np.float32(0.5))  # float32, half up
+    np.testing.assert_array_equal(codes, np.clip(want, 0, 255))
 
 
 def _live_render(scene, folder, name):
@@ -117,6 +119,115 @@ def test_frame_images_are_written_only_when_what_they_hold_changes(textured, mon
     frames.write_frames(scene, 9.0)
     assert runs == [8.0, 9.0, 9.0, 9.0]
     assert_holds(frames.frame_image(copy), aged_pixels(scene, copy, 9.0))
+
+
+def _counting(monkeypatch):
+    """``(reads, runs)``: the copies' colours read (``runtime.original_rgba``) and the
+    years aged (``runtime.aged_rgb``) from now on."""
+    from lightfade_addon.blender.aging import runtime
+
+    reads, runs = [], []
+    read, age = runtime.original_rgba, runtime.aged_rgb
+
+    def counted_read(*args, **kwargs):
+        reads.append(args[0].name)
+        return read(*args, **kwargs)
+
+    def counted_age(*args, **kwargs):
+        runs.append(args[3])
+        return age(*args, **kwargs)
+
+    monkeypatch.setattr(runtime, "original_rgba", counted_read)
+    monkeypatch.setattr(runtime, "aged_rgb", counted_age)
+    return reads, runs
+
+
+def _bmp_texture(textured, path):
+    """The texture saved as a BMP at ``path`` (uncompressed: the same size whatever its
+    colours) and loaded in its place; returns ``(image, save)``, ``save(px)`` writing
+    pixels ``px`` into the file."""
+    node = next(n for n in textured["material"].node_tree.nodes if n.type == "TEX_IMAGE")
+
+    def save(px):
+        writer = bpy.data.images.new("Writer", 32, 32)
+        writer.pixels.foreach_set(px.ravel())
+        writer.filepath_raw = str(path)
+        writer.file_format = "BMP"
+        writer.save()
+        bpy.data.images.remove(writer)
+
+    save(rgba(node.image))
+    node.image = bpy.data.images.load(str(path))
+    return node.image, save
+
+
+def test_a_texture_as_packed_is_not_read_again(textured, monkeypatch):
+    """A frame at the years its image holds does not read a texture that is as it was
+    packed; a stroke on one texel packed (packed data of the same size: a float image
+    packs uncompressed) is aged once; a stroke not packed is read at every frame (its
+    colour compared) and aged once; packed, read once more, and other years age the
+    colour held without reading it."""
+    from lightfade_addon.blender.aging import frames
+    from lightfade_addon.blender.aging.apply import aged_pixels
+
+    scene = bpy.context.scene
+    _bake_and_age(years=8)
+    copy = the_copy(textured["material"])
+    albedo = copy.lightfade.albedo
+    albedo.pack()
+    assert not albedo.is_dirty and albedo.packed_file is not None
+    size = albedo.packed_file.size
+    reads, runs = _counting(monkeypatch)
+    frames.write_frames(scene, 8.0)
+    frames.write_frames(scene, 8.0)
+    assert (len(reads), runs) == (1, [8.0])
+    px = rgba(albedo)
+    px[16, 16, :3] *= 0.5                                        # a one-texel stroke,
+    albedo.pixels.foreach_set(px.ravel())
+    albedo.pack()                                                # packed
+    assert not albedo.is_dirty and albedo.packed_file.size == size
+    frames.write_frames(scene, 8.0)
+    frames.write_frames(scene, 8.0)
+    assert (len(reads), runs) == (2, [8.0, 8.0])
+    px[16, 17, :3] *= 0.5                                        # another, not packed:
+    albedo.pixels.foreach_set(px.ravel())
+    frames.write_frames(scene, 8.0)                              # read at every frame
+    frames.write_frames(scene, 8.0)
+    assert (len(reads), runs) == (4, [8.0, 8.0, 8.0])
+    albedo.pack()
+    frames.write_frames(scene, 8.0)                              # read once: the same
+    frames.write_frames(scene, 9.0)                              # other years: the colour
+    frames.write_frames(scene, 10.0)                             # held is aged again
+    assert (len(reads), runs) == (5, [8.0, 8.0, 8.0, 9.0, 10.0])
+    assert_holds(frames.frame_image(copy), aged_pixels(scene, copy, 10.0))
+
+
+def test_a_texture_file_changed_on_disk_is_aged_again(textured, tmp_path, monkeypatch):
+    """A texture read from a file: not read again while the file is the same; the file
+    overwritten (same size) and the image reloaded, the frame is aged again."""
+    from lightfade_addon.blender.aging import frames
+    from lightfade_addon.blender.aging.apply import aged_pixels
+
+    scene = bpy.context.scene
+    path = tmp_path / "noise.bmp"
+    image, save = _bmp_texture(textured, path)
+    _bake_and_age(years=8)
+    copy = the_copy(textured["material"])
+    assert copy.lightfade.albedo == image and image.packed_file is None
+    reads, runs = _counting(monkeypatch)
+    frames.write_frames(scene, 8.0)
+    frames.write_frames(scene, 8.0)
+    assert (len(reads), runs) == (1, [8.0])
+    size = path.stat().st_size
+    px = rgba(image)
+    px[..., :3] *= 0.5
+    save(px)                                                     # edited elsewhere
+    assert path.stat().st_size == size
+    image.reload()
+    frames.write_frames(scene, 8.0)
+    frames.write_frames(scene, 8.0)
+    assert (len(reads), runs) == (2, [8.0, 8.0])
+    assert_holds(frames.frame_image(copy), aged_pixels(scene, copy, 8.0))
 
 
 def test_zero_years_renders_the_original_pixels_with_frames(textured, tmp_path, monkeypatch):

@@ -76,22 +76,53 @@ class TestBand:
                                    evaluate(table, other, rates, 10.0), atol=2e-5)
 
     def test_only_texels_whose_node_moved_are_evaluated_again(self, monkeypatch):
+        """Nodes evaluated: none at the same years; one per texel whose node moved by
+        one (the band's other end is kept); two per texel that jumped further."""
         table = random_table(1)
         rgb, rates = texels(1)
         prep = prepare_texels(table, rates)
         evaluate_prepared(table, prep, rgb, 10.0)
         counted = []
-        real = prep_module._nodes
+        real = prep_module._node
 
-        def nodes(table, cells, u, *args):
+        def node(table, cells, u, *args):
             counted.append(len(u))
             return real(table, cells, u, *args)
 
-        monkeypatch.setattr(prep_module, "_nodes", nodes)
+        monkeypatch.setattr(prep_module, "_node", node)
         evaluate_prepared(table, prep, rgb, 10.0)
         assert counted == []
+        before = prep.t0.copy()
         evaluate_prepared(table, prep, rgb, 10.5)
+        moved = np.abs(prep.t0.astype(int) - before)
         assert 0 < sum(counted) < len(rgb) // 2
+        assert sum(counted) == np.count_nonzero(moved == 1) + 2 * np.count_nonzero(moved > 1)
+        counted.clear()
+        before = prep.t0.copy()
+        evaluate_prepared(table, prep, rgb, 10.0)                # back down
+        moved = np.abs(prep.t0.astype(int) - before)
+        assert sum(counted) == np.count_nonzero(moved == 1) + 2 * np.count_nonzero(moved > 1)
+        np.testing.assert_allclose(evaluate_prepared(table, prep, rgb, 10.0),
+                                   evaluate(table, rgb, rates, 10.0), atol=2e-5)
+
+    @pytest.mark.parametrize("S", [1, 2])
+    def test_blocks_where_every_texel_moved_match(self, monkeypatch, S):
+        """Blocks whose every texel moved are refreshed as one slice: in blocks past
+        the first, with some texels new (no band yet) among them, the result still
+        matches."""
+        monkeypatch.setattr(prep_module, "_BLOCK", 700)
+        table = random_table(S)
+        rgb, rates = texels(S)
+        prep = prepare_texels(table, rates)
+        cells = table_cells(table)
+        evaluate_prepared(table, prep, rgb, 0.01, cells=cells)
+        other = rgb.copy()
+        other[::3] = rgb[::-3]                                   # new colours, no band yet
+        prep.t0[::3] = -1
+        before = prep.t0.copy()
+        got = evaluate_prepared(table, prep, other, 1e9, cells=cells)
+        np.testing.assert_allclose(got, evaluate(table, other, rates, 1e9), atol=2e-5)
+        assert (prep.t0 != before)[700:].all()                   # past the first block
 
     def test_colour_count_must_match(self):
         table = random_table(1)

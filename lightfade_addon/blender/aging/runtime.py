@@ -243,15 +243,22 @@ def _cells(copy, lane, table):
     return cells
 
 
-def twin_key(scene, copy, rgba, lane=None):
-    """What the numpy twin's result for the colour ``rgba`` (H, W, 4) depends on
-    besides the years: the table image, the copy's signature, its object's exposure,
-    the size and a digest (CRC-32) of the colour. Hashable."""
+def inputs_key(scene, copy, lane=None):
+    """What the numpy twin's result depends on besides the colour and the years: the
+    table image, the copy's signature and its object's exposure. Hashable; reads no
+    pixels."""
     props = copy.lightfade
     evaluator(copy, lane)
-    flat = np.ascontiguousarray(rgba)
     return (_EVALUATORS[_slot(copy, lane)][0], props.signature,
-            exposure_signature(scene, props.aged_object), flat.shape, zlib.crc32(flat.data))
+            exposure_signature(scene, props.aged_object))
+
+
+def twin_key(scene, copy, rgba, lane=None):
+    """What the numpy twin's result for the colour ``rgba`` (H, W, 4) depends on
+    besides the years: :func:`inputs_key`, the size and a digest (CRC-32) of the
+    colour. Hashable."""
+    flat = np.ascontiguousarray(rgba)
+    return (*inputs_key(scene, copy, lane), flat.shape, zlib.crc32(flat.data))
 
 
 def aged_rgb(scene, copy, rgba, years, lane=None, key=None):

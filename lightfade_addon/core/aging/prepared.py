@@ -11,14 +11,18 @@ the years. :class:`PreparedTexels` keeps per texel
 * the **band**: the dose node ``t0`` it was last evaluated at and the change there,
   ``lo = change(t0)``, and to the next node, ``step = change(t0 + 1) - lo``
   (vertex-mixed and interpolated over the concentration cube, exactly as
-  :func:`.colourtable.change_nodes`).
+  :func:`.colourtable.change_nodes`);
+* ``u`` — the colour's coordinates on the concentration cube (its unmixing), from the
+  first band on.
 
 A years value then costs, per texel, the dose position ``s`` (:func:`.colourtable.
 dose_position`), ``change = lo + (s - t0) · step`` and the colour stage; only texels
 whose node ``t0 = min(floor s, T - 2)`` moved (a new years range: every texel at the
 first call; a step of 0.1 year at 10 years moves about 4 % of them) have their band
-evaluated again, from their colour (unmixing and the four corners per vertex).
-All in float32: 30 bytes a texel for one spectrum, 46 for two.
+evaluated again: a move of one node (a time-lapse, a nearby years value) keeps the
+band's other end and evaluates one node (one gather of 24 floats per light-mix
+vertex), a longer move two, the first one the unmixing as well.
+All in float32: 42 bytes a texel for one spectrum, 58 for two.
 
 The result equals :func:`.colourtable.evaluate`'s (the same nodes, the same lerp) to
 float32 rounding; zero years without a history gives the colour itself, as there.
@@ -101,20 +105,19 @@ def _coordinates(table, cells, rgb):
     return np.clip(y, 0.0, 1.0) ** np.float32(1.0 / table.power) * np.float32(table.side - 1)
 
 
-def _nodes(table, cells, u, slots, weights, t0):
-    """:func:`.colourtable.change_nodes` through the change's cells."""
+def _node(table, cells, u, slots, weights, t):
+    """The change (m, 3) at dose nodes ``t`` (m,) of texels at node coordinates ``u``
+    (m, 3), light-mix ``slots``, ``weights``: one node of
+    :func:`.colourtable.change_nodes`, through the change's cells."""
     N, T = table.side, table.T
     row, f = _cell(u, N)
-    nodes = []
-    for dt in (0, 1):
-        acc = None
-        for v in range(slots.shape[1]):
-            step = _trilinear(cells.change, ((slots[:, v] * T + t0 + dt) * (N - 1) ** 3) + row, f)
-            if weights is not None:
-                step *= weights[:, v:v + 1]
-            acc = step if acc is None else acc + step
-        nodes.append(acc)
-    return nodes
+    acc = None
+    for v in range(slots.shape[1]):
+        step = _trilinear(cells.change, ((slots[:, v] * T + t) * (N - 1) ** 3) + row, f)
+        if weights is not None:
+            step *= weights[:, v:v + 1]
+        acc = step if acc is None else acc + step
+    return acc
 
 
 @dataclass
@@ -133,6 +136,9 @@ class PreparedTexels:
         The change at node ``t0``.
     step : ndarray, shape (n, 3), float32
         The change at node ``t0 + 1`` minus ``lo``.
+    u : ndarray, shape (n, 3), float32
+        Node coordinates of the colour on the concentration cube
+        (:func:`.colourtable.coordinates`), where ``t0 >= 0``.
     """
 
     total: np.ndarray
@@ -141,6 +147,7 @@ class PreparedTexels:
     t0: np.ndarray
     lo: np.ndarray
     step: np.ndarray
+    u: np.ndarray
 
     @property
     def n(self):
@@ -148,7 +155,7 @@ class PreparedTexels:
 
     @property
     def nbytes(self):
-        arrays = (self.total, self.slots, self.weights, self.t0, self.lo, self.step)
+        arrays = (self.total, self.slots, self.weights, self.t0, self.lo, self.step, self.u)
         return sum(a.nbytes for a in arrays if a is not None)
 
 
@@ -158,24 +165,54 @@ def prepare_texels(table, rates):
     n = rates.shape[1]
     slots, weights = (None, None) if table.S == 1 else mix_vertices(table, rates)
     return PreparedTexels(rates.sum(axis=0), slots, weights, np.full(n, -1, np.int16),
-                          np.zeros((n, 3), np.float32), np.zeros((n, 3), np.float32))
+                          np.zeros((n, 3), np.float32), np.zeros((n, 3), np.float32),
+                          np.zeros((n, 3), np.float32))
+
+
+def _mix(prep, at, n):
+    """Light-mix ``slots``, ``weights`` of the ``n`` texels ``at`` (indices or a slice)."""
+    if prep.slots is None:
+        return np.zeros((n, 1), np.int32), None
+    return prep.slots[at], prep.weights[at]
 
 
 def _refresh(table, cells, prep, rgb, s0, s1, t0):
-    """Evaluate the band at nodes ``t0`` (block ``s0:s1``) where it is elsewhere."""
+    """Evaluate the band at nodes ``t0`` (block ``s0:s1``) where it is elsewhere.
+
+    A texel whose node moved by one keeps one end of its band (up: the old ``t0 + 1``
+    is the new ``t0``; down: the old ``t0`` the new ``t0 + 1``) and evaluates one node;
+    other moves evaluate two; the unmixing coordinates are kept from the first. Where
+    every texel of the block moved (a first call, a long jump) its rows are read and
+    written as one slice, not gathered and scattered one by one."""
     moved = np.flatnonzero(prep.t0[s0:s1] != t0)
     if moved.size == 0:
         return
-    at = moved + s0
-    u = _coordinates(table, cells, rgb[at])
-    if prep.slots is None:
-        slots, weights = np.zeros((moved.size, 1), np.int32), None
-    else:
-        slots, weights = prep.slots[at], prep.weights[at]
-    lo, hi = _nodes(table, cells, u, slots, weights, t0[moved])
+    whole = moved.size == s1 - s0
+    at, new = (slice(s0, s1), t0) if whole else (moved + s0, t0[moved])
+    old = prep.t0[at].astype(np.int32)
+    fresh = old < 0
+    if fresh.all():
+        prep.u[at] = _coordinates(table, cells, rgb[at])
+    elif fresh.any():
+        rows = np.flatnonzero(fresh) + s0 if whole else at[fresh]
+        prep.u[rows] = _coordinates(table, cells, rgb[rows])
+    up = (old == new - 1) & ~fresh
+    down = old == new + 1
+    slots, weights = _mix(prep, at, new.size)
+    u = prep.u[at]
+    found = _node(table, cells, u, slots, weights, new + up)     # up: t0 + 1, else t0
+    lo_old = prep.lo[at]
+    lo = np.where(up[:, None], lo_old + prep.step[at], found)
+    hi = np.where(up[:, None], found, lo_old)                    # down: the old t0
+    far = np.flatnonzero(~(up | down))                           # new, or moved further
+    if far.size == new.size:
+        hi = _node(table, cells, u, slots, weights, new + 1)
+    elif far.size:
+        hi[far] = _node(table, cells, u[far], slots[far],
+                        None if weights is None else weights[far], new[far] + 1)
     prep.lo[at] = lo
     prep.step[at] = hi - lo
-    prep.t0[at] = t0[moved]
+    prep.t0[at] = new
 
 
 def evaluate_prepared(table, prep, rgb, years, out=None, cells=None):
