@@ -3,21 +3,18 @@
 A fixed sample count is too few where light arrives by rare paths (the year's sun through
 a small window onto a sofa, a bulb seen through frosted glass) and wasted everywhere
 else.  So an adaptive bake (the Final preset) bakes each light group in **passes** of a
-few samples, each pass with its own seed (:func:`pass_seed`).  The passes of one round
-are finished together the way the bake finishes a map (their raw mean denoised once,
-the raw mean kept, 3D-filtered: :mod:`.passes`), and the map is the sample-weighted mean
-of the rounds' finished maps.  Independent passes give the bake its own error
-(:func:`noise`): from the second round on, the spread of the finished rounds says how
-far their mean can be from a converged bake; in the first round (:data:`MIN_PASSES`
-raw passes, one denoising: a map that is clean at once costs what the fixed bake cost)
-the raw passes' contrasts, carried through the same 3D filter and scaled by the
-denoiser's measured gain (:data:`DENOISE_GAIN`), say it.  The error of the object's mean
-lux comes from the raw passes texel by texel (:class:`RawSpread`).  After each round,
-each (object, group) whose error is above the target gets one more pass, of as many
-samples as it lacks (:func:`samples_wanted`), until it reaches the target or the cap on
-samples (or on time) that the artist sets: a few rounds, so a few denoisings, however
-many samples.  Measured on a furnished room's sofa under a window's annual daylight
-(docs/bake.md): 20 samples where 8 left it twice the error target.
+few samples, each pass with its own seed (:func:`pass_seed`), finishes every pass the
+same way the bake finishes a map (denoised, the raw mean kept, 3D-filtered), and takes
+the mean of the finished passes as the map.  Independent passes give the bake its own
+error (:func:`noise`): the spread of the finished passes says how far their mean can be
+from a converged bake; the error of the object's mean lux comes from the raw passes,
+texel by texel (:class:`RawSpread`).  After the first passes (:data:`MIN_PASSES`, of a
+few samples each) each (object, group) whose error is above the target gets one more
+pass per round, of the samples it lacks aimed a little under the target
+(:func:`samples_wanted`), until it reaches the target or the cap on samples (or on
+time) that the artist sets: a few rounds, so a few denoisings, however many samples.
+Measured on a furnished room's sofa under a window's annual daylight (docs/bake.md):
+20 samples where 8 left it twice the error target.
 
 The error of a mean of ``K`` independent passes ``F_k`` of equal variance ``σ²`` is
 distributed as each Helmert contrast ``h_j / √K``::
@@ -55,15 +52,11 @@ MAX_GROWTH = 4
 #: the target: aimed at the target itself, the next estimate lands above it one time in
 #: two and costs a round (a Cycles call and a denoising for a few samples; the
 #: furnished room's cabinets and bookshelf took up to five passes of +4 samples).
-AIM = 0.85
+AIM = 0.9
 #: Lit texels: at least this share of the map's 99th percentile (as the benchmarks).
 LIT_SHARE = 0.05
 #: Fewer lit texels than this: no per-texel percentile (the object's mean still counts).
 MIN_LIT = 64
-#: The first round's error per texel is its raw contrasts' after the 3D filter times
-#: this: what the denoiser (OIDN, then the guard and the kept raw mean) takes off the
-#: error of a map that only the 3D filter averaged (measured: docs/bake.md).
-DENOISE_GAIN = 0.5
 #: Cycles' largest seed.
 _SEED_MAX = 2 ** 31 - 1
 
@@ -95,9 +88,6 @@ class Noise:
         Relative standard error of the object's mean lux; None with one pass.
     capped : bool
         Stopped by the cap (samples or time) above the target.
-    bound : bool
-        ``p95`` is the first round's bound (one finished map: its raw contrasts times
-        :data:`DENOISE_GAIN`), not measured on finished passes.
     """
 
     passes: int
@@ -105,14 +95,12 @@ class Noise:
     p95: float | None = None
     mean: float | None = None
     capped: bool = False
-    bound: bool = False
 
     def text(self):
         if self.p95 is None:
             return f"{self.samples} spp (one pass: noise not measured)"
         cap = ", hit the cap" if self.capped else ""
-        return (f"noise {'at most ' if self.bound else ''}{self.p95:.1%} p95, "
-                f"mean ±{self.mean:.2%}, "
+        return (f"noise {self.p95:.1%} p95, mean ±{self.mean:.2%}, "
                 f"{self.samples} spp in {self.passes} passes{cap}")
 
 
@@ -201,26 +189,19 @@ class RawSpread:
         return out
 
 
-def noise(passes, covered, samples, spread=None, first=None, gain=1.0):
+def noise(passes, covered, samples, spread=None):
     """:class:`Noise` of the mean of ``passes`` (finished maps, ``(K, H, W)``; ``samples``
-    per pass, a list, or one number for all) over the ``covered`` texels.
-
-    The error per texel: from the Helmert contrasts of the finished passes (two or
-    more); of one finished pass, from ``first`` (the round's raw contrasts, ``(J, H,
-    W)``, each distributed as the error of the raw mean, 3D-filtered as the map was)
-    times ``gain`` (:data:`DENOISE_GAIN`: what the denoiser takes off).  The error of
-    the object's mean from ``spread`` (:class:`RawSpread` of the same passes, raw; it
-    also counts the passes) where given, else from the contrasts of the finished
-    passes' means (one degree of freedom per contrast).  Dark maps (nothing lit) have
-    no error; nothing to measure (one pass, no ``first``): ``p95`` None."""
+    per pass, a list, or one number for all) over the ``covered`` texels: the error per
+    texel from the Helmert contrasts of the finished passes; the error of the object's
+    mean from ``spread`` (:class:`RawSpread` of the same passes, raw) where given, else
+    from the contrasts of the passes' means (one degree of freedom per contrast).  Dark
+    maps (nothing lit) have no error; one pass: not measured (``p95`` None)."""
     cov = np.asarray(covered, bool)
     F = np.asarray(passes, dtype=np.float64)[:, cov]
     k = len(F)
     n = np.broadcast_to(np.asarray(samples, dtype=np.float64), (k,))
     result = Noise(k, int(n.sum()))
-    if spread is not None and spread.sum is not None:
-        result.passes = spread.contrasts + 1
-    if k < 2 and first is None:
+    if k < 2:
         return result
     mean = mean_map(F, n)
     top = np.percentile(mean, 99) if mean.size else 0.0
@@ -232,43 +213,33 @@ def noise(passes, covered, samples, spread=None, first=None, gain=1.0):
         result.mean = float(spread.mean_error(covered) or 0.0)
     else:
         means = F.mean(axis=1)
-        contrasts = error_contrasts(means, n) if k > 1 else np.zeros(1)
-        result.mean = float(np.sqrt(np.mean(contrasts ** 2))
+        result.mean = float(np.sqrt(np.mean(error_contrasts(means, n) ** 2))
                             / max(float(mean_map(means, n)), 1e-30))
     if np.count_nonzero(lit) < MIN_LIT:
         result.p95 = 0.0
         return result
-    if k > 1:
-        rel = np.abs(error_contrasts(F[:, lit], n)) / mean[lit]
-    else:
-        rel = float(gain) * np.abs(np.asarray(first, np.float64)[:, cov][:, lit]) / mean[lit]
-        result.bound = True
+    rel = np.abs(error_contrasts(F[:, lit], n)) / mean[lit]
     result.p95 = float(np.percentile(rel, 95))
     return result
 
 
-def samples_wanted(found, target, mean_target, max_samples, step=4):
+def samples_wanted(found, target, mean_target, max_samples, step=8):
     """Samples per texel the (object, group) of :class:`Noise` ``found`` should have in
     all.  Error falls as ``1/√samples``, so it lacks ``N · (max(p95 / target, mean /
-    mean_target) / AIM)² − N`` (``N`` where ``p95`` is only the first round's bound
-    above the target: the next round measures it); the pass that adds them carries ``step`` × a power of
-    two samples (maps that lack about as many share one Cycles call: a call costs the
-    scene's sync whatever its samples), at most :data:`MAX_GROWTH` × ``N`` in all after
-    the round and ``max_samples`` in all; ``found.samples`` when it is at the target
-    (or the cap).
+    mean_target) / AIM)² − N``; the pass that adds them carries a multiple of ``step``
+    (the first round's samples: maps that lack about as many share one Cycles call, and
+    a call costs the scene's sync whatever its samples), at most :data:`MAX_GROWTH` ×
+    ``N`` in all after the round and ``max_samples`` in all; ``found.samples`` when it
+    is at the target (or the cap).
     """
     have = found.samples
     if found.p95 is None:
         return have
-    of_mean = found.mean / mean_target if mean_target else 0.0
-    ratio = max(found.p95 / target, of_mean)
+    ratio = max(found.p95 / target, found.mean / mean_target if mean_target else 0.0)
     if ratio <= 1.0:
         return have
     lack = have * (ratio / AIM) ** 2 - have
-    if found.bound and found.p95 > target:   # a bound says little of how far: double
-        lack = max(have * (of_mean / AIM) ** 2 - have, have)
-    lack = max(lack, 1.0) * (1.0 - 1e-9)     # 8 lacking is a pass of 8, not 16
-    extra = step * 2 ** max(0, math.ceil(math.log2(lack / step)))
+    extra = step * max(1, math.ceil(lack / step - 1e-9))
     return int(max(have, min(have + extra, MAX_GROWTH * have, max_samples)))
 
 

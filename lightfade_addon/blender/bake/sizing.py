@@ -125,11 +125,10 @@ def format_seconds(s):
 CALIBRATION = {}
 
 
-def estimate(scene, sizes_by_group, samples, denoise, passes=1, finishes=None):
+def estimate(scene, sizes_by_group, samples, denoise, passes=1):
     """Estimate the bake of ``sizes_by_group`` (a list, per group, of map widths) at
-    ``samples`` per texel in ``passes`` Cycles calls per group, each map denoised
-    ``finishes`` times (default: once per pass; an adaptive bake's first round
-    denoises its passes together, :mod:`.passes`)."""
+    ``samples`` per texel in ``passes`` Cycles calls per group (each map denoised once
+    per pass)."""
     texels = float(sum(n * n for sizes in sizes_by_group for n in sizes))
     work = texels * samples
     calls = sum(1 for sizes in sizes_by_group if sizes) * passes
@@ -139,8 +138,7 @@ def estimate(scene, sizes_by_group, samples, denoise, passes=1, finishes=None):
         per_texel_sample, per_call = rate
         seconds = work / per_texel_sample + calls * per_call
         if denoise:
-            seconds += texels / 1e6 * DENOISE_SECONDS_PER_MTEXEL * (
-                passes if finishes is None else finishes)
+            seconds += texels / 1e6 * DENOISE_SECONDS_PER_MTEXEL * passes
     return Estimate(work, texels, calls, seconds)
 
 
@@ -149,11 +147,11 @@ def estimate_for(scene, sizes_by_group, settings):
     adaptive one from its first passes everywhere to its cap everywhere."""
     per_pass = settings.samples_per_pass()
     low = estimate(scene, sizes_by_group, per_pass * settings.first_passes, settings.denoise,
-                   settings.first_passes, 1)
+                   settings.first_passes)
     if not settings.adaptive:
         return low
     high = estimate(scene, sizes_by_group, settings.cap_samples, settings.denoise,
-                    settings.most_passes, settings.most_passes - settings.first_passes + 1)
+                    settings.most_passes)
     low.texel_samples_max = high.texel_samples
     low.seconds_max = high.seconds
     if high.seconds is not None and settings.max_seconds > 0:
