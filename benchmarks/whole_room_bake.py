@@ -12,8 +12,8 @@ window) is baked whole, first at the fixed 8 samples (the Custom quality, denois
 Final preset before the adaptive bake, issue 36's "today's default") and then with the
 default Final preset, ``--repeat`` times alternated (after one small bake that warms the
 sky map and Cycles' kernels).  Printed: each bake's wall and CPU seconds and the CPU
-ratio (target: at most 1.6), the CPU by kind of work (the Cycles calls, the denoising,
-the 3D filter and the measurement), and per object the noise the default bake reached
+ratio (target: at most 1.6), the CPU by kind of work (the Cycles operator, the reading
+back and denoising of each pass, the 3D filter and the measurement), and per object the noise the default bake reached
 (p95 per lit texel, the error of its mean), its samples and passes, and whether it hit
 the cap.  Only the CPU ratio counts on a shared machine.
 """
@@ -34,12 +34,14 @@ import bpy  # noqa: E402
 
 @contextlib.contextmanager
 def cpu_by_kind(totals):
-    """Add the CPU seconds of the bake's Cycles calls, denoising + 3D filter and
-    measurement to ``totals`` while inside (the methods are wrapped, then put back)."""
+    """Add the CPU seconds of the bake's Cycles calls (the operator), denoising (each pass
+    read back and denoised), 3D filter and measurement to ``totals`` while inside (the
+    methods are wrapped, then put back)."""
     from lightfade_addon.blender.bake import passes, state
 
     wrapped = [(state.BakeState, "bake", "Cycles"),
-               (passes.Passes, "finish", "denoise + 3D filter"),
+               (passes.Passes, "add", "denoise"),
+               (passes.Passes, "finish", "3D filter"),
                (passes.Passes, "measure", "measure")]
     originals = [getattr(cls, name) for cls, name, _ in wrapped]
 
