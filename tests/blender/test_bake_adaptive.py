@@ -66,9 +66,42 @@ def test_passes_of_different_samples_weigh_by_them():
     assert np.percentile(np.abs(passes.mean(axis=0) - truth), 95) > 1.5 * np.percentile(err, 95)
 
 
+def test_the_mean_error_from_the_raw_texels_is_the_spread_of_the_mean_over_draws():
+    """The object's mean: its error from two raw passes' texel contrasts matches the
+    spread of the mean over many draws, and is steady from draw to draw (where the
+    contrast of the two passes' means, one degree of freedom, scatters as |N(0, 1)|)."""
+    rng = np.random.default_rng(5)
+    truth = rng.uniform(0.5, 4.0, (48, 48))
+    sigma = truth * rng.choice([0.2, 3.0], truth.shape, p=[0.9, 0.1])   # rare bright paths
+    covered = np.ones(truth.shape, bool)
+    covered[:, :4] = False
+    found, means, one_dof = [], [], []
+    for _ in range(400):
+        a, b = truth + sigma * rng.standard_normal((2,) + truth.shape) / 2.0   # 4 samples each
+        spread = adaptive.RawSpread()
+        spread.add(a, 4)
+        spread.add(b, 4)
+        found.append(spread.mean_error(covered))
+        means.append((a[covered].mean() + b[covered].mean()) / 2)
+        one_dof.append(adaptive.noise([a, b], covered, 4).mean)
+    true = np.std(means) / truth[covered].mean()
+    assert np.mean(found) == pytest.approx(true, rel=0.1)
+    assert np.std(found) < 0.1 * np.mean(found) < 0.2 * np.std(one_dof)
+    # samples of unequal passes: the mean of 4 + 12 samples
+    spread = adaptive.RawSpread()
+    spread.add(truth + sigma / 2 * rng.standard_normal(truth.shape), 4)
+    spread.add(truth + sigma / math.sqrt(12) * rng.standard_normal(truth.shape), 12)
+    exact = math.sqrt((sigma[covered] ** 2 / 16).sum()) / truth[covered].sum()
+    assert spread.mean_error(covered) == pytest.approx(exact, rel=0.15)
+    assert adaptive.RawSpread().mean_error(covered) is None
+
+
 def test_samples_wanted_grow_as_the_square_of_the_error_within_the_round_and_the_cap():
     assert adaptive.samples_wanted(Noise(2, 8, p95=0.15, mean=0.001), 0.15, 0.01, 128) == 8
-    assert adaptive.samples_wanted(Noise(2, 8, p95=0.21, mean=0.0), 0.15, 0.01, 128) == 16
+    # (1.4 / 0.9)² × 8 = 19.4: aimed under the target, a pass of a multiple of 8
+    assert adaptive.samples_wanted(Noise(2, 8, p95=0.21, mean=0.0), 0.15, 0.01, 128) == 24
+    assert adaptive.samples_wanted(Noise(2, 8, p95=0.16, mean=0.0), 0.15, 0.01, 128) == 16
+    assert adaptive.samples_wanted(Noise(2, 8, p95=0.16, mean=0.0), 0.15, 0.01, 128, 4) == 12
     assert adaptive.samples_wanted(Noise(2, 8, p95=0.1, mean=0.02), 0.15, 0.01, 128) == 32
     assert adaptive.samples_wanted(Noise(3, 32, p95=0.9, mean=0.0), 0.15, 0.01, 128) == 128
     assert adaptive.samples_wanted(Noise(3, 32, p95=0.9, mean=0.0), 0.15, 0.01, 64) == 64

@@ -7,12 +7,14 @@ few samples, each pass with its own seed (:func:`pass_seed`), finishes every pas
 same way the bake finishes a map (denoised, the raw mean kept, 3D-filtered), and takes
 the mean of the finished passes as the map.  Independent passes give the bake its own
 error (:func:`noise`): the spread of the finished passes says how far their mean can be
-from a converged bake.  After the first passes (:data:`MIN_PASSES`, of a few samples
-each) each (object, group) whose error is above the target gets one more pass per
-round, of as many samples as it lacks (:func:`samples_wanted`), until it reaches the
-target or the cap on samples (or on time) that the artist sets: a few rounds, so a few
-denoisings, however many samples.  Measured on a furnished room's sofa under a window's
-annual daylight (docs/bake.md): 20 samples where 8 left it twice the error target.
+from a converged bake; the error of the object's mean lux comes from the raw passes,
+texel by texel (:class:`RawSpread`).  After the first passes (:data:`MIN_PASSES`, of a
+few samples each) each (object, group) whose error is above the target gets one more
+pass per round, of the samples it lacks aimed a little under the target
+(:func:`samples_wanted`), until it reaches the target or the cap on samples (or on
+time) that the artist sets: a few rounds, so a few denoisings, however many samples.
+Measured on a furnished room's sofa under a window's annual daylight (docs/bake.md):
+20 samples where 8 left it twice the error target.
 
 The error of a mean of ``K`` independent passes ``F_k`` of equal variance ``σ²`` is
 distributed as each Helmert contrast ``h_j / √K``::
@@ -46,6 +48,11 @@ import numpy as np
 MIN_PASSES = 2
 #: A round at most multiplies a map's samples by this (the first estimates are rough).
 MAX_GROWTH = 4
+#: A map above its target is given the samples that bring its error to this share of
+#: the target: aimed at the target itself, the next estimate lands above it one time in
+#: two and costs a round (a Cycles call and a denoising for a few samples; the
+#: furnished room's cabinets and bookshelf took up to five passes of +4 samples).
+AIM = 0.9
 #: Lit texels: at least this share of the map's 99th percentile (as the benchmarks).
 LIT_SHARE = 0.05
 #: Fewer lit texels than this: no per-texel percentile (the object's mean still counts).
@@ -124,11 +131,76 @@ def mean_map(passes, samples):
     return np.tensordot(n / n.sum(), np.asarray(passes, dtype=np.float64), axes=1)
 
 
-def noise(passes, covered, samples):
+class RawSpread:
+    """The spread of a map's *raw* passes (as baked, before any denoising), texel by
+    texel: the error of the object's mean lux (:meth:`mean_error`).
+
+    A raw texel's samples are independent of every other texel's, so the variance of
+    the object's raw mean is the sum of its texels' variances over the texel count
+    squared; each texel's is estimated from the Helmert contrasts of its passes (one
+    per pass after the first; :func:`error_contrasts` in the units of one sample)::
+
+        g_j = (M_j − F_j) / √(1/S_j + 1/n_j),    var g_j = s²  (one sample's variance)
+        var(object mean) ≈ Σ_i mean_j(g_ij²) / N / n²
+
+    (``N`` samples in all, ``n`` texels).  The finishing keeps the raw bake's local
+    mean (:func:`.denoise.preserve_mean`) and the 3D filter and the margin average, so
+    the finished map's mean has the raw mean's error (less where the finishing clips
+    rare bright paths: the pendant's poster in the lampshade room read 6.7 % at 8
+    samples where two seeds' means differed by 3.9 %; on the safe side).  With two
+    passes this estimate has as many degrees of freedom as the map has texels, where
+    the contrast of the passes' means has one (its square is a χ²₁: a map at half the
+    target read above it one time in twenty and was sent to more passes).
+    """
+
+    def __init__(self):
+        self.sum, self.samples, self.square, self.contrasts = None, 0, None, 0
+
+    def add(self, raw, samples):
+        """Pass ``raw`` (an (H, W) map, any unit) of ``samples`` samples per texel."""
+        raw = np.asarray(raw, dtype=np.float32)
+        n = float(samples)
+        if self.sum is None:
+            self.sum, self.square = raw * np.float32(n), np.zeros(raw.shape, np.float32)
+        else:
+            g = (self.sum / np.float32(self.samples) - raw) / np.float32(
+                math.sqrt(1.0 / self.samples + 1.0 / n))
+            self.square += g * g
+            self.sum += raw * np.float32(n)
+            self.contrasts += 1
+        self.samples += n
+
+    def mean_error(self, covered):
+        """Relative standard error of the mean over the ``covered`` texels; None before
+        the second pass, 0 where nothing is lit."""
+        if self.contrasts == 0:
+            return None
+        covered = np.asarray(covered, bool)
+        total = float(self.sum[covered].sum(dtype=np.float64)) / self.samples
+        if total <= 0.0:
+            return 0.0
+        variance = (float(self.square[covered].sum(dtype=np.float64))
+                    / self.contrasts / self.samples)
+        return math.sqrt(variance) / total
+
+    def part(self, cell):
+        """The spread of the texels ``cell`` (a (row slice, column slice)) alone."""
+        out = RawSpread()
+        out.samples, out.contrasts = self.samples, self.contrasts
+        if self.sum is not None:
+            out.sum, out.square = self.sum[cell], self.square[cell]
+        return out
+
+
+def noise(passes, covered, samples, spread=None):
     """:class:`Noise` of the mean of ``passes`` (finished maps, ``(K, H, W)``; ``samples``
-    per pass, a list, or one number for all) over the ``covered`` texels.  Dark maps
-    (nothing lit) have no error."""
-    F = np.asarray(passes, dtype=np.float64)[:, np.asarray(covered, bool)]
+    per pass, a list, or one number for all) over the ``covered`` texels: the error per
+    texel from the Helmert contrasts of the finished passes; the error of the object's
+    mean from ``spread`` (:class:`RawSpread` of the same passes, raw) where given, else
+    from the contrasts of the passes' means (one degree of freedom per contrast).  Dark
+    maps (nothing lit) have no error; one pass: not measured (``p95`` None)."""
+    cov = np.asarray(covered, bool)
+    F = np.asarray(passes, dtype=np.float64)[:, cov]
     k = len(F)
     n = np.broadcast_to(np.asarray(samples, dtype=np.float64), (k,))
     result = Noise(k, int(n.sum()))
@@ -140,9 +212,12 @@ def noise(passes, covered, samples):
         result.p95, result.mean = 0.0, 0.0
         return result
     lit = mean >= LIT_SHARE * top
-    means = F.mean(axis=1)
-    spread = error_contrasts(means, n)
-    result.mean = float(np.sqrt(np.mean(spread ** 2)) / max(float(mean_map(means, n)), 1e-30))
+    if spread is not None:
+        result.mean = float(spread.mean_error(covered) or 0.0)
+    else:
+        means = F.mean(axis=1)
+        result.mean = float(np.sqrt(np.mean(error_contrasts(means, n) ** 2))
+                            / max(float(mean_map(means, n)), 1e-30))
     if np.count_nonzero(lit) < MIN_LIT:
         result.p95 = 0.0
         return result
@@ -151,11 +226,14 @@ def noise(passes, covered, samples):
     return result
 
 
-def samples_wanted(found, target, mean_target, max_samples, step=4):
+def samples_wanted(found, target, mean_target, max_samples, step=8):
     """Samples per texel the (object, group) of :class:`Noise` ``found`` should have in
-    all: error falls as ``1/√samples``, so ``N · max(p95 / target, mean / mean_target)²``,
-    a multiple of ``step``, at most :data:`MAX_GROWTH` × ``N`` in one round and
-    ``max_samples`` in all; ``found.samples`` when it is at the target (or the cap).
+    all.  Error falls as ``1/√samples``, so it lacks ``N · (max(p95 / target, mean /
+    mean_target) / AIM)² − N``; the pass that adds them carries a multiple of ``step``
+    (the first round's samples: maps that lack about as many share one Cycles call, and
+    a call costs the scene's sync whatever its samples), at most :data:`MAX_GROWTH` ×
+    ``N`` in all after the round and ``max_samples`` in all; ``found.samples`` when it
+    is at the target (or the cap).
     """
     have = found.samples
     if found.p95 is None:
@@ -163,8 +241,9 @@ def samples_wanted(found, target, mean_target, max_samples, step=4):
     ratio = max(found.p95 / target, found.mean / mean_target if mean_target else 0.0)
     if ratio <= 1.0:
         return have
-    want = math.ceil(have * ratio ** 2 / step) * step
-    return int(max(have, min(want, MAX_GROWTH * have, max_samples)))
+    lack = have * (ratio / AIM) ** 2 - have
+    extra = step * max(1, math.ceil(lack / step - 1e-9))
+    return int(max(have, min(have + extra, MAX_GROWTH * have, max_samples)))
 
 
 def noise_note(noise, settings):

@@ -6,7 +6,8 @@ object's last call of a round its new passes are averaged over their 3D neighbou
 the surface together (:mod:`.filter3d`: one neighbour search; the passes of one group
 with the range weight of their mean) and extended over the margin.  A map is the mean
 of its finished passes weighted by their samples; an adaptive bake (:mod:`.adaptive`)
-measures each map's error from them.
+measures each map's error from them, and the error of its mean from the raw passes
+(:class:`.adaptive.RawSpread`).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ class Passes:
         self.regions = regions or {}
         self.colours, self.pending, self.passes, self.noise = {}, {}, {}, {}
         self.region_noise = {}   # (region name, group) -> adaptive.Noise
+        self.spread = {}   # (map key, group) -> adaptive.RawSpread of its raw passes
 
     def add(self, obj_name, group, samples, image):
         """A pass just baked into ``image``: denoised (when the settings say so), pending
@@ -39,6 +41,8 @@ class Passes:
         image.pixels.foreach_get(px)
         rgb = px.reshape(n, n, 4)[..., :3]
         raw = luminance(rgb)
+        if self.settings.adaptive:
+            self.spread.setdefault((obj_name, group), adaptive.RawSpread()).add(raw, samples)
         if self.settings.denoise:
             geo = self.geometry[obj_name]
             if obj_name not in self.colours:
@@ -79,21 +83,23 @@ class Passes:
         maps, samples = [y for _, y in passes], [n for n, _ in passes]
         covered = self.geometry[obj_name].covered
         regions = self.regions.get(obj_name)
+        spread = self.spread.get((obj_name, group))
         if not regions:
-            found = self._measured(maps, covered, samples)
+            found = self._measured(maps, covered, samples, spread)
         else:
             found = None
             for name, cell in regions.items():
-                part = self._measured([y[cell] for y in maps], covered[cell], samples)
+                part = self._measured([y[cell] for y in maps], covered[cell], samples,
+                                      spread.part(cell) if spread is not None else None)
                 self.region_noise[(name, group)] = part
                 if found is None or self._excess(part) > self._excess(found):
                     found = part
         self.noise[(obj_name, group)] = found
         return found
 
-    def _measured(self, maps, covered, samples):
+    def _measured(self, maps, covered, samples, spread=None):
         s = self.settings
-        found = adaptive.noise(maps, covered, samples)
+        found = adaptive.noise(maps, covered, samples, spread)
         if found.p95 is not None:
             found.capped = found.p95 > s.noise_target or (
                 s.mean_target > 0 and found.mean > s.mean_target)
@@ -115,7 +121,8 @@ class Passes:
             for group in self.passes.get(obj.name, {}):
                 found = self.measure(obj.name, group)
                 want = adaptive.samples_wanted(found, s.noise_target, s.mean_target,
-                                               s.cap_samples, s.samples_per_pass())
+                                               s.cap_samples,
+                                               s.first_passes * s.samples_per_pass())
                 if want > found.samples:
                     more.setdefault((group, found.passes, want - found.samples), []).append(obj)
         return more

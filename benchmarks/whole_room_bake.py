@@ -1,0 +1,125 @@
+"""The whole furnished room: the default (adaptive) bake's cost against the fixed 8-sample
+bake, side by side in one run, with the noise each object reached.
+
+Usage (from the repository root; the assets are not part of the repository; about 10
+minutes on 2 quiet cores)::
+
+    python benchmarks/whole_room_bake.py ASSET_DIR [--seed 0] [--repeat 1]
+
+``tools/furnished_room.py``'s room (Drake's furnished living room: 14 objects, about
+13 M texels at the scene's default density, annual daylight at 52° N through one
+window) is baked whole, first at the fixed 8 samples (the Custom quality, denoised: the
+Final preset before the adaptive bake, issue 36's "today's default") and then with the
+default Final preset, ``--repeat`` times alternated (after one small bake that warms the
+sky map and Cycles' kernels).  Printed: each bake's wall and CPU seconds and the CPU
+ratio (target: at most 1.6), the CPU by kind of work (the Cycles operator, the reading
+back and denoising of each pass, the 3D filter and the measurement), and per object the noise the default bake reached
+(p95 per lit texel, the error of its mean), its samples and passes, and whether it hit
+the cap.  Only the CPU ratio counts on a shared machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import contextlib
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import bpy  # noqa: E402
+
+
+@contextlib.contextmanager
+def cpu_by_kind(totals):
+    """Add the CPU seconds of the bake's Cycles calls (the operator), denoising (each pass
+    read back and denoised), 3D filter and measurement to ``totals`` while inside (the
+    methods are wrapped, then put back)."""
+    from lightfade_addon.blender.bake import passes, state
+
+    wrapped = [(state.BakeState, "bake", "Cycles"),
+               (passes.Passes, "add", "denoise"),
+               (passes.Passes, "finish", "3D filter"),
+               (passes.Passes, "measure", "measure")]
+    originals = [getattr(cls, name) for cls, name, _ in wrapped]
+
+    def timed(fn, kind):
+        def call(*args, **kwargs):
+            start = time.process_time()
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                totals[kind] += time.process_time() - start
+        return call
+
+    try:
+        for (cls, name, kind), fn in zip(wrapped, originals):
+            setattr(cls, name, timed(fn, kind))
+        yield totals
+    finally:
+        for (cls, name, _), fn in zip(wrapped, originals):
+            setattr(cls, name, fn)
+
+
+def bake(scene, objects, quality, seed):
+    from lightfade_addon.blender.bake import BakeSettings, bake_exposure
+
+    scene.lightfade_bake.quality = quality
+    scene.lightfade.bake_samples = 8
+    settings = BakeSettings.from_scene(scene)
+    settings.seed = seed
+    kinds = collections.defaultdict(float)
+    with cpu_by_kind(kinds):
+        wall, cpu = time.perf_counter(), time.process_time()
+        result = bake_exposure(scene, objects, settings, report=lambda m: None,
+                               progress=lambda f, m: None)
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    return result, wall, cpu, kinds
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("assets", help="directory of the glTF models (tools/furnished_room.py)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--repeat", type=int, default=1, help="alternated runs of each bake")
+    args = parser.parse_args()
+
+    from tools import furnished_room
+    from lightfade_addon.blender.bake import BakeSettings, bake_exposure, find_targets
+
+    furnished_room.build(args.assets)
+    scene = bpy.context.scene
+    objects = list(find_targets(scene))
+    bake_exposure(scene, objects[:1], BakeSettings.from_scene(scene),   # warm: sky, kernels
+                  report=lambda m: None, progress=lambda f, m: None)
+    cost = {"fixed 8 (CUSTOM)": [0.0, 0.0, collections.Counter()],
+            "default (FINAL)": [0.0, 0.0, collections.Counter()]}
+    noise = {}
+    for _ in range(max(args.repeat, 1)):
+        for label, quality in (("fixed 8 (CUSTOM)", "CUSTOM"), ("default (FINAL)", "FINAL")):
+            result, wall, cpu, kinds = bake(scene, objects, quality, args.seed)
+            cost[label][0] += wall
+            cost[label][1] += cpu
+            cost[label][2].update(kinds)
+            noise = result.get("noise") or noise
+            print(f"  {label}: wall {wall:.1f} s, CPU {cpu:.1f} s", flush=True)
+    print(f"\nFurnished room: {len(objects)} objects, {args.repeat} run(s) each, alternated")
+    base = cost["fixed 8 (CUSTOM)"][1]
+    kinds = sorted({k for _, _, c in cost.values() for k in c})
+    print(f"{'bake':<20}{'wall s':>9}{'CPU s':>9}{'CPU ÷ fixed':>13}"
+          + "".join(f"{k:>22}" for k in kinds))
+    for label, (wall, cpu, by_kind) in cost.items():
+        print(f"{label:<20}{wall:>9.1f}{cpu:>9.1f}{cpu / base:>13.2f}"
+              + "".join(f"{by_kind[k]:>22.1f}" for k in kinds))
+    print(f"\n{'object <- group':<48}{'p95':>7}{'mean':>8}{'spp':>6}{'passes':>8}  cap")
+    for (obj, group), found in noise.items():
+        p95 = "-" if found.p95 is None else f"{found.p95:.1%}"
+        mean = "-" if found.mean is None else f"{found.mean:.2%}"
+        print(f"{obj + ' <- ' + group:<48}{p95:>7}{mean:>8}{found.samples:>6}"
+              f"{found.passes:>8}  {'hit' if found.capped else ''}")
+
+
+if __name__ == "__main__":
+    main()
