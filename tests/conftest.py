@@ -13,6 +13,15 @@ from pathlib import Path
 
 import pytest
 
+# The early jobs start processes from a thread while the main thread runs Blender, which
+# maps and unmaps large buffers. A vfork child shares the parent's memory until it execs,
+# so an unmapping in another thread can fail the exec with EFAULT ("[Errno 14] Bad
+# address", seen once in CI on the newest stack); glibc's posix_spawn shares memory the
+# same way. Python documents these two switches for exactly such cases: plain fork, then
+# exec.
+subprocess._USE_VFORK = False
+subprocess._USE_POSIX_SPAWN = False
+
 
 @pytest.fixture(scope="session", autouse=True)
 def private_grid_cache():
