@@ -2,6 +2,7 @@
 outcome record that ``./run test-oldest`` reads (see ``run``), and early jobs: real
 processes that start when collection ends and run beside the tests before them."""
 
+import errno
 import os
 import shutil
 import subprocess
@@ -12,15 +13,6 @@ from concurrent.futures import Future
 from pathlib import Path
 
 import pytest
-
-# The early jobs start processes from a thread while the main thread runs Blender, which
-# maps and unmaps large buffers. A vfork child shares the parent's memory until it execs,
-# so an unmapping in another thread can fail the exec with EFAULT ("[Errno 14] Bad
-# address", seen once in CI on the newest stack); glibc's posix_spawn shares memory the
-# same way. Python documents these two switches for exactly such cases: plain fork, then
-# exec.
-subprocess._USE_VFORK = False
-subprocess._USE_POSIX_SPAWN = False
 
 
 @pytest.fixture(scope="session", autouse=True)
@@ -38,6 +30,23 @@ def private_grid_cache():
 #: The running session, kept for :func:`pytest_unconfigure` (which gets only the config).
 _SESSION = pytest.StashKey()
 _EARLY = pytest.StashKey()
+
+
+def _spawn(args, kwargs, tries=3):
+    """``Popen`` with pipes, tried again when the exec fails with EFAULT.
+
+    These processes start from a thread while the main thread runs Blender, which maps
+    and unmaps large buffers; a vfork child shares the parent's memory until it execs, so
+    an unmapping meanwhile can fail the exec with "[Errno 14] Bad address" (seen once in
+    CI). Plain fork avoids it but runs OpenBLAS's fork handler, which stops its threads
+    under a solve in progress on another thread (a hang, seen on the oldest stack)."""
+    for attempt in range(tries):
+        try:
+            return subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                    text=True, **kwargs)
+        except OSError as exc:
+            if exc.errno != errno.EFAULT or attempt == tries - 1:
+                raise
 
 
 class EarlyJobs:
@@ -94,8 +103,7 @@ class EarlyJobs:
         with self._lock:
             if self._stopping:
                 raise RuntimeError("the session is over")
-            proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                    text=True, **kwargs)
+            proc = _spawn(args, kwargs)
             self._procs.append(proc)
         try:
             out, err = proc.communicate(timeout=timeout)
