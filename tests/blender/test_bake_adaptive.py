@@ -17,7 +17,7 @@ from lightfade_addon.blender.bake import BakeCancelled, BakeSettings, ExposureBa
 from lightfade_addon.blender.bake import adaptive
 from lightfade_addon.blender.bake.adaptive import Noise
 
-from test_bake_shades import _diffuse, _glass, _material
+from test_bake_shades import lampshade_scene
 
 
 # ---------------------------------------------------------------- statistics
@@ -129,23 +129,7 @@ ADAPTIVE = BakeSettings(resolution=N, samples=4, pass_samples=2, margin=2, noise
 def two_lights(blender, lf):
     """A floor under a sun (clean at once) and a wall that a bulb lights through an open
     frosted-glass cylinder (rare bright paths)."""
-    bpy.ops.mesh.primitive_plane_add(size=3.0)
-    floor = bpy.context.active_object
-    floor.name = "Floor"
-    floor.data.materials.append(_material("FloorMat", _diffuse))
-    bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0.0, 0.8, 1.2),
-                                     rotation=(math.radians(90), 0.0, 0.0))
-    wall = bpy.context.active_object
-    wall.name = "Wall"
-    wall.data.materials.append(_material("WallMat", _diffuse))
-    bpy.ops.mesh.primitive_cylinder_add(vertices=24, radius=0.2, depth=0.3,
-                                        location=(0.0, 0.0, 1.2), end_fill_type="NOTHING")
-    bpy.context.active_object.data.materials.append(_material("Frosted", _glass))
-    data = bpy.data.lights.new("Bulb", "POINT")
-    data.energy, data.shadow_soft_size = 60.0, 0.05
-    bulb = bpy.data.objects.new("Bulb", data)
-    bpy.context.scene.collection.objects.link(bulb)
-    bulb.location = (0.0, 0.0, 1.2)
+    floor, wall, _shade = lampshade_scene()
     lf.add_sun(strength=3.0, theta_deg=20.0)
     bpy.context.scene.world = None
     bpy.context.view_layer.update()

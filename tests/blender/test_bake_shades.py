@@ -45,8 +45,9 @@ def _glass(tree, bsdf):
     bsdf.inputs["Roughness"].default_value = 0.5
 
 
-@pytest.fixture
-def shaded(blender):
+def lampshade_scene():
+    """A floor, a wall beside an open frosted-glass cylinder ("Shade") and a bulb inside
+    it (see the module docstring): ``[floor, wall, shade]``."""
     bpy.ops.mesh.primitive_plane_add(size=3.0)
     floor = bpy.context.active_object
     floor.name = "Floor"
@@ -66,9 +67,15 @@ def shaded(blender):
     bulb = bpy.data.objects.new("Bulb", data)
     bpy.context.scene.collection.objects.link(bulb)
     bulb.location = (0.0, 0.0, 1.2)
+    return [floor, wall, shade]
+
+
+@pytest.fixture
+def shaded(blender):
+    objects = lampshade_scene()
     bpy.context.scene.world = None
     bpy.context.view_layer.update()
-    return [floor, wall, shade]
+    return objects
 
 
 def _plain(objects):

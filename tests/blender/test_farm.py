@@ -21,7 +21,6 @@ chunk: 2 groups x 2 chunks.
 
 import functools
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -30,6 +29,8 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+
+from test_pipeline import _env  # the environment a real process needs to import the add-on
 
 ROOT = Path(__file__).resolve().parents[2]
 bpy = pytest.importorskip("bpy")
@@ -85,12 +86,6 @@ sys.stdout.flush()
 sys.stderr.flush()
 os._exit(status)
 """
-
-
-def _env():
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), env.get("PYTHONPATH", "")])
-    return env
 
 
 def build_scene(lf, path):
