@@ -305,3 +305,38 @@ class TestChunks:
             model._CHUNK_CELLS = saved
         np.testing.assert_allclose(wide.history, narrow.history, rtol=1e-13, atol=1e-15)
         np.testing.assert_allclose(wide.fractions, narrow.fractions, rtol=1e-13, atol=1e-15)
+
+
+class TestSettled:
+    def test_a_faded_chunk_stops_stepping_and_records_the_same(self, monkeypatch):
+        """Once every fading colourant is gone (below SETTLED) the chunk stops: far
+        fewer flux solves, the same records; a non-fading colourant fed by yields
+        (bare wood's quinone) keeps its share."""
+        from lightfade_addon.core.fading import model
+
+        calls = [0]
+        rates = LayeredStack.rates
+
+        def counted(self, f):
+            calls[0] += 1
+            return rates(self, f)
+
+        monkeypatch.setattr(LayeredStack, "rates", counted)
+        rng = np.random.default_rng(6)
+        A, S = rng.uniform(0.1, 3.0, (2, 3, 41))
+        c = rng.uniform(0.0, 1.0, (40, 3))
+        lam = np.linspace(300.0, 780.0, 41)
+        yields = np.zeros((3, 3))
+        yields[0, 2] = 0.3
+        record = np.geomspace(1e-4, 1e2, 60)
+        args = (A, S, c, [1.0, 0.5, 0.0], np.ones(41), np.full(41, 0.8), lam)
+        kw = dict(duration=1e2, record=record, yields=yields, workers=1)
+        early = simulate(*args, **kw)
+        stopped, calls[0] = calls[0], 0
+        monkeypatch.setattr(model, "SETTLED", 0.0)        # never settled: every step
+        full = simulate(*args, **kw)
+        assert stopped < 0.6 * calls[0]
+        np.testing.assert_allclose(early.history, full.history, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(early.reflectance, full.reflectance, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(early.fractions, full.fractions, atol=1e-14)
+        assert early.fractions[..., 2].min() > 0.1          # the product stays
