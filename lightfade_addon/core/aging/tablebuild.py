@@ -442,7 +442,7 @@ def build_tables(requests, settings=TableSettings(), progress=None, threads=None
         recipe, keys = todo[key]
 
         def step(f, m):                           # one assignment: safe across threads
-            steps[key] = (f, f"{recipe.name}: {m}", next(order))
+            steps[key] = (f, m if recipe.name in m else f"{recipe.name}: {m}", next(order))
 
         return load_or_build(recipe, keys, settings, progress=step)
 
