@@ -79,16 +79,40 @@ def test_the_indicator_ends_on_error(monkeypatch):
 
 def test_a_long_age_says_what_it_does_on_the_console(floor_scene, monkeypatch, capsys):
     """Age through the API (no progress of the caller's) prints its steps once it has
-    run two seconds (here made zero)."""
+    run two seconds (asked for two, here made zero): each material's step and the end."""
     from lightfade_addon import api
     from lightfade_addon import progress as core_progress
     from lightfade_addon.blender.aging import prepare
 
     real = core_progress.console_after
-    monkeypatch.setattr(prepare, "console_after",
-                        lambda progress, seconds, label: real(progress, 0.0, label))
+    asked = []
+
+    def after(progress, seconds, label):
+        asked.append(seconds)
+        return real(progress, 0.0, label)
+
+    monkeypatch.setattr(prepare, "console_after", after)
     api.bake(bpy.context.scene)
     capsys.readouterr()
     api.age_scene(bpy.context.scene, years=3)
     err = capsys.readouterr().err.splitlines()
+    assert asked == [2.0]                       # past two seconds
     assert any(line.startswith("LightFade Age:") and "aged 1 material" in line for line in err)
+    assert any(line.startswith("LightFade Age:") and "aging group" in line for line in err)
+
+
+def test_age_builds_the_tables_ahead_and_uses_them(floor_scene, monkeypatch):
+    """The colour tables Age needs are built before its per-material steps (together,
+    core.aging.tablebuild.build_tables) and each step takes its table from there, not
+    from a build of its own; nothing is kept once Age is over."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging import data
+
+    def no_build(*args, **kwargs):
+        raise AssertionError("a step built its own table")
+
+    api.bake(bpy.context.scene)
+    monkeypatch.setattr(data, "load_or_build", no_build)
+    api.age_scene(bpy.context.scene, years=3)
+    assert any(i.name.startswith(data.TABLE_PREFIX) for i in bpy.data.images)
+    assert data._BUILT == {}

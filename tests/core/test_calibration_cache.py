@@ -52,3 +52,17 @@ def test_a_corrupt_file_is_solved_again(private_disk):
     calibration._beta_cached.cache_clear()
     assert _beta(recipe, 0, 4.0) == solved
     assert np.isfinite(calibration._load_beta(path))
+
+
+def test_the_solve_simulates_each_trial_beta_once(private_disk, monkeypatch):
+    """Brent's method starts at the bracket's ends, already simulated while bracketing:
+    no trial beta is simulated twice."""
+    real, trials = calibration._calibration_fade, []
+
+    def counted(recipe, j, beta, dose, lam):
+        trials.append(beta)
+        return real(recipe, j, beta, dose, lam)
+
+    monkeypatch.setattr(calibration, "_calibration_fade", counted)
+    _beta(get_recipe("dyed-fabric"), 0, 4.0)
+    assert len(trials) > 5 and len(set(trials)) == len(trials)

@@ -281,3 +281,62 @@ class TestThinLayerSeries:
         rho_ref, tau_ref = kubelka_layer(Kd, Sd, 1.0)
         np.testing.assert_allclose(rho, rho_ref, rtol=1e-12, atol=1e-300)
         np.testing.assert_allclose(tau, tau_ref, rtol=1e-12)
+
+
+class TestChunks:
+    def test_few_layers_get_wide_chunks_and_the_result_does_not_depend_on_them(self):
+        """A colour table's 729 samples of 3 layers are one chunk (fewer, longer numpy
+        calls); 64 layers keep narrow ones; and the split never changes the result."""
+        from lightfade_addon.core.fading import model
+
+        assert model._chunks(729, 41, 1, layers=3) == [(0, 729)]
+        assert len(model._chunks(729, 41, 1, layers=64)) == 5
+        rng = np.random.default_rng(5)
+        A, S = rng.uniform(0.1, 3.0, (2, 3, 41))
+        c = rng.uniform(0.0, 1.0, (729, 3))
+        lam = np.linspace(300.0, 780.0, 41)
+        args = (A, S, c, [1.0, 0.5, 0.2], np.ones(41), np.full(41, 0.8), lam)
+        wide = simulate(*args, duration=0.3, record=[0.1, 0.3], workers=1)
+        saved = model._CHUNK_CELLS
+        try:
+            model._CHUNK_CELLS = 0                      # 5 chunks of 6144 columns
+            narrow = simulate(*args, duration=0.3, record=[0.1, 0.3], workers=1)
+        finally:
+            model._CHUNK_CELLS = saved
+        np.testing.assert_allclose(wide.history, narrow.history, rtol=1e-13, atol=1e-15)
+        np.testing.assert_allclose(wide.fractions, narrow.fractions, rtol=1e-13, atol=1e-15)
+
+
+class TestSettled:
+    def test_a_faded_chunk_stops_stepping_and_records_the_same(self, monkeypatch):
+        """Once every fading colourant is gone (below SETTLED) the chunk stops: far
+        fewer flux solves, the same records; a non-fading colourant fed by yields
+        (bare wood's quinone) keeps its share."""
+        from lightfade_addon.core.fading import model
+
+        calls = [0]
+        rates = LayeredStack.rates
+
+        def counted(self, f):
+            calls[0] += 1
+            return rates(self, f)
+
+        monkeypatch.setattr(LayeredStack, "rates", counted)
+        rng = np.random.default_rng(6)
+        A, S = rng.uniform(0.1, 3.0, (2, 3, 41))
+        c = rng.uniform(0.0, 1.0, (40, 3))
+        lam = np.linspace(300.0, 780.0, 41)
+        yields = np.zeros((3, 3))
+        yields[0, 2] = 0.3
+        record = np.geomspace(1e-4, 1e2, 60)
+        args = (A, S, c, [1.0, 0.5, 0.0], np.ones(41), np.full(41, 0.8), lam)
+        kw = dict(duration=1e2, record=record, yields=yields, workers=1)
+        early = simulate(*args, **kw)
+        stopped, calls[0] = calls[0], 0
+        monkeypatch.setattr(model, "SETTLED", 0.0)        # never settled: every step
+        full = simulate(*args, **kw)
+        assert stopped < 0.6 * calls[0]
+        np.testing.assert_allclose(early.history, full.history, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(early.reflectance, full.reflectance, rtol=1e-12, atol=1e-14)
+        np.testing.assert_allclose(early.fractions, full.fractions, atol=1e-14)
+        assert early.fractions[..., 2].min() > 0.1          # the product stays

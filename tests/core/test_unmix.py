@@ -138,6 +138,20 @@ def test_forward_reflectance_of_nothing_is_the_substrate():
     np.testing.assert_allclose(forward_reflectance(r, np.zeros((1, 3)))[0], ground, atol=1e-12)
 
 
+@pytest.mark.parametrize("name", ["printed-paper", "bare-wood"])
+def test_the_fused_forward_model_is_the_plain_one_in_every_block(name):
+    """The blocked, visible-wavelength evaluation equals ``forward_reflectance @ M``
+    on rows across several blocks (the last one short), fixed colourants included
+    (bare wood's lignin), inside the box and past its top."""
+    from lightfade_addon.core.fading.unmix import FORWARD_ROWS
+
+    u = get_unmixer(RECIPES[name])
+    c = np.random.default_rng(4).uniform(0.0, 1.3, (2 * FORWARD_ROWS + 37, u.Cu))
+    c[:2] = [[0.0], [1.0]]
+    exact = forward_reflectance(u.recipe, c) @ u.M
+    np.testing.assert_allclose(u._forward_XYZ(c), exact, rtol=1e-12, atol=1e-15)
+
+
 def test_recipes_of_the_same_optics_share_one_unmixer_and_others_do_not():
     """Sensitivity, kinetics and solver settings do not change unmixing: one table."""
     paper = RECIPES["printed-paper"]

@@ -20,6 +20,7 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import bpy
@@ -27,7 +28,7 @@ import numpy as np
 
 from ...core.aging.colourtable import atlas_pixels, table_from_atlas
 from ...core.fading.lights import spectra_keys
-from ...core.aging.tablebuild import TableSettings, load_or_build, table_key
+from ...core.aging.tablebuild import TableSettings, build_tables, load_or_build, table_key
 from ..errors import AgingError
 from ..exposure import exposure_images
 from ..pixels import read_rgba, resample, write_rgba
@@ -43,6 +44,8 @@ TABLE_INFO = "lightfade_table"
 MAX_SPECTRA = 4
 #: The table every preparation builds (the tests of bookkeeping patch in a coarser one).
 TABLE_SETTINGS = TableSettings()
+#: Tables built ahead (:func:`tables_built`), by key, for :func:`ensure_table`.
+_BUILT = {}
 
 
 @dataclass(frozen=True)
@@ -78,16 +81,36 @@ def find_table(key):
 
 def ensure_table(recipe, keys, prior=None, progress=None, restore_kw=None):
     """The table image of ``recipe`` under spectra ``keys`` (with history ``prior``):
-    found in the file, else loaded from the disk cache or built, and written."""
+    found in the file, else built ahead (:func:`tables_built`), loaded from the disk
+    cache or built, and written."""
     key = table_key(recipe, keys, TABLE_SETTINGS, prior)
     image = find_table(key)
     if image is not None:
         return image, None
-    table = load_or_build(recipe, keys, TABLE_SETTINGS, prior, progress,
-                          restore_kw=restore_kw)
+    table = _BUILT.get(key) if prior is None else None
+    if table is None:
+        table = load_or_build(recipe, keys, TABLE_SETTINGS, prior, progress,
+                              restore_kw=restore_kw)
     image = _half_exr(TABLE_PREFIX + key[:16], atlas_pixels(table))
     image[TABLE_INFO] = table.info()
     return image, table
+
+
+@contextmanager
+def tables_built(requests, progress=None):
+    """Within the block, :func:`ensure_table` finds the tables of ``requests``
+    (``(recipe, spectra keys)``, no history) that the file lacked ready: built together
+    (:func:`..core.aging.tablebuild.build_tables`, several at a time), or read from the
+    disk cache. Forgotten on leaving."""
+    missing = [(recipe, keys) for recipe, keys in requests
+               if find_table(table_key(recipe, keys, TABLE_SETTINGS)) is None]
+    built = build_tables(missing, TABLE_SETTINGS, progress) if missing else {}
+    _BUILT.update(built)
+    try:
+        yield len(built)
+    finally:
+        for key in built:
+            _BUILT.pop(key, None)
 
 
 def _half_exr(name, rgba):

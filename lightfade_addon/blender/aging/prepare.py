@@ -51,6 +51,22 @@ def lock_interface(scene):
     scene.render.use_lock_interface = True
 
 
+def table_requests(scene, pairs):
+    """``(recipe, spectra keys)`` of the colour tables the pairs' materials age with
+    (without parts or a history: those build their own on the way), to build together
+    (:func:`.data.tables_built`); a pair whose maps cannot say is left to its step."""
+    requests = []
+    for obj, material in pairs:
+        if parts.has_parts(material) or runtime.material_prior(material) is not None:
+            continue
+        try:
+            keys = agingdata.map_inputs(scene, obj)[1]
+            requests.append((runtime.material_recipe(material), keys))
+        except (AgingError, KeyError, ValueError):
+            continue
+    return requests
+
+
 def age_scene(scene, years, selected=(), progress=None, report=None):
     """Age the target materials (see :func:`.targets.targets`) and show ``years``.
 
@@ -70,24 +86,27 @@ def age_scene(scene, years, selected=(), progress=None, report=None):
         for old in copies_of(material, obj):
             remove_aged(old)
     made = []
+    requests = table_requests(scene, pairs)
     try:
-        for k, (obj, material) in enumerate(pairs):
-            plan = plans[obj, material]
-            copy = _new_copy(obj, material, plan)
-            made.append(copy)
+        with agingdata.tables_built(requests, lambda f, m: say(0.8 * f, m)) as built:
+            start = 0.8 if built else 0.0            # the tables' share of the progress
+            for k, (obj, material) in enumerate(pairs):
+                plan = plans[obj, material]
+                copy = _new_copy(obj, material, plan)
+                made.append(copy)
 
-            def step(f, msg, k=k, name=material.name):
-                say((k + f) / len(pairs), f"{name}: {msg}")
+                def step(f, msg, k=k, name=material.name):
+                    say(start + (1.0 - start) * (k + f) / len(pairs), f"{name}: {msg}")
 
-            step(0.0, "aging group")
-            if parts.has_parts(material):            # one shared group per recipe in use
-                parts.prepare(scene, copy, plan.colour, step)
-            else:
-                runtime.prepare(scene, copy, plan.colour, step)
-            new = runtime.material_prior(material) is None
-            gate_rays(copy, plan.colour, scene.lightfade.aged_rays, zero_years=new)
-            if not parts.has_parts(material):       # parts render live (their weights bake)
-                frames.add_branch(copy, plan.colour, *sampling(copy))
+                step(0.0, "aging group")
+                if parts.has_parts(material):            # one shared group per recipe in use
+                    parts.prepare(scene, copy, plan.colour, step)
+                else:
+                    runtime.prepare(scene, copy, plan.colour, step)
+                new = runtime.material_prior(material) is None
+                gate_rays(copy, plan.colour, scene.lightfade.aged_rays, zero_years=new)
+                if not parts.has_parts(material):       # parts render live (their weights bake)
+                    frames.add_branch(copy, plan.colour, *sampling(copy))
     except BaseException:
         for copy in made:
             remove_aged(copy)

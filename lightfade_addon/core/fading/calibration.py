@@ -144,9 +144,12 @@ def _beta_cached(recipe, j, blue_wool, wavelengths):
 def _solve_beta(recipe, j, blue_wool, lam):
     """``beta`` whose calibration fade is exactly :data:`JND_DELTA_E` (Brent's method)."""
     dose = blue_wool_dose(blue_wool)
+    seen = {}                               # Brent's method starts at the bracket's ends
 
     def excess(log_beta):                   # grows monotonically with beta
-        return _calibration_fade(recipe, j, np.exp(log_beta), dose, lam) - JND_DELTA_E
+        if log_beta not in seen:
+            seen[log_beta] = _calibration_fade(recipe, j, np.exp(log_beta), dose, lam) - JND_DELTA_E
+        return seen[log_beta]
 
     # bracket the root in log(beta), then Brent's method to 1e-10 in log(beta)
     lo, hi = -30.0, -30.0

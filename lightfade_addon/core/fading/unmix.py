@@ -33,6 +33,7 @@ import numpy as np
 from ..colour.colorimetry import (XYZ_to_Lab, linear_srgb_to_XYZ, srgb_decode, srgb_encode,
                                   xyz_weights)
 from .kubelka import kubelka_layer, over_ground
+from .layered import kubelka_into
 from .recipes import Recipe
 from .spectra import WAVELENGTHS
 
@@ -51,6 +52,10 @@ EXTENSION_STEPS = 30
 #: spaced as ``(k / (n - 1))**2`` (denser near 0, where Kubelka–Munk is steepest):
 #: within 5e-10 relative of the exact forward model, 3e-9 in CIELAB, twenty times faster.
 CURVE_NODES = 513
+#: Rows of the forward model evaluated at a time (:meth:`Unmixer.forward_XYZ`): the
+#: block's seven (rows, W) arrays stay in cache, where whole-array temporaries of a
+#: large solve went to memory (ten times slower).
+FORWARD_ROWS = 1024
 
 
 def forward_reflectance(recipe, c, wavelengths=WAVELENGTHS):
@@ -296,6 +301,7 @@ class Unmixer:
         self.wavelengths = np.asarray(wavelengths, dtype=float)
         self.Cu = len(recipe.unmixed)
         self.M = xyz_weights(self.wavelengths)
+        self._optics = _visible_optics(recipe, self.wavelengths, self.M)
         self.lut_size = lut_size
         self._lut = None
         # forward samples for the starting guesses
@@ -320,7 +326,33 @@ class Unmixer:
         return self.Cu == 3
 
     def _forward_XYZ(self, c):
-        return forward_reflectance(self.recipe, c, self.wavelengths) @ self.M
+        """``forward_reflectance(recipe, c) @ M`` (N, 3), the same layer over the
+        substrate evaluated fused, in blocks of :data:`FORWARD_ROWS` rows
+        (:func:`.layered.kubelka_into`, its closed form), at the wavelengths the
+        colour-matching functions weigh (the others add 0 to XYZ)."""
+        Ad, Sd, K0, S0, ground, M = self._optics
+        c = np.asarray(c, dtype=float)
+        c = c.reshape(c.shape[0] if c.ndim > 1 else 1, self.Cu)
+        n, W = c.shape[0], M.shape[0]
+        out = np.empty((n, 3))
+        rows = min(n, FORWARD_ROWS)
+        Kd, Sd_, rho, tau, x, m, g = (np.empty((rows, W)) for _ in range(7))
+        for s0 in range(0, n, rows):
+            k = min(n, s0 + rows) - s0
+            K, S, r, t, xk = Kd[:k], Sd_[:k], rho[:k], tau[:k], x[:k]
+            np.matmul(c[s0:s0 + k], Ad, out=K)
+            K += K0
+            np.matmul(c[s0:s0 + k], Sd, out=S)
+            S += S0
+            kubelka_into(K, S, r, t, xk, m[:k], g[:k], thin=False)
+            np.multiply(r, ground, out=xk)          # R = rho + tau² g / (1 - rho g)
+            np.subtract(1.0, xk, out=xk)
+            t *= t
+            t *= ground
+            t /= xk
+            r += t
+            np.matmul(r, M, out=out[s0:s0 + k])
+        return out
 
     def XYZ(self, c):
         """XYZ (D65, Y of white = 1) of unmixed concentrations ``c`` (N, Cu).
@@ -478,6 +510,20 @@ class Unmixer:
         if clip:
             np.clip(out, 0.0, 1.0, out=out)
         return out
+
+
+def _visible_optics(recipe, wavelengths, M):
+    """``(A_u d, S_u d, K_0 d, S_0 d, ground, M)`` of :func:`forward_reflectance` at
+    the wavelengths where the weights ``M`` (W, 3) are not all 0: the unmixed
+    colourants' optical depths (Cu, W'), the fixed colourants' (W',), the substrate
+    (W',) and ``M`` (W', 3)."""
+    A, S, ground = recipe.optics(wavelengths)
+    seen = np.flatnonzero(np.any(M != 0.0, axis=1))
+    d = recipe.thickness
+    unmixed = [recipe.index(name) for name in recipe.unmixed]
+    base = recipe.base_concentrations()
+    return (A[unmixed][:, seen] * d, S[unmixed][:, seen] * d, (base @ A)[seen] * d,
+            (base @ S)[seen] * d, ground[seen], np.ascontiguousarray(M[seen]))
 
 
 def get_unmixer(recipe, wavelengths=tuple(WAVELENGTHS)):
