@@ -176,10 +176,15 @@ def original_pixels(scene, copy):
 def aged_pixels(scene, copy, years):
     """(H, W, 4) float32 linear aged colour of ``copy`` (the numpy evaluator): its colour
     at each texel centre lit by the exposure maps sampled there, as the group does."""
-    original = original_pixels(scene, copy)
     if len(copy.lightfade.lanes):                    # several recipes by mask
+        original = original_pixels(scene, copy)
         return parts.aged_pixels(scene, _view_layer(scene), copy, original, years)
-    return runtime.aged_rgb(scene, copy, original, years)
+    if copy.lightfade.path == "BAKED":
+        ensure_albedo(scene, copy)
+    original, key = runtime.held_colour(scene, copy)   # read only when it changed
+    out = np.empty_like(original)
+    out[..., 3] = original[..., 3]
+    return runtime.aged_rgb(scene, copy, original, years, key=key, out=out)
 
 
 def apply_copy(scene, copy, years):

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..colour.srgb8 import srgb_code_floats
 from .colourtable import _BLOCK, _THREADS, aged_colour, dose_node, mix_vertices
 from .table import in_blocks
 
@@ -215,7 +216,7 @@ def _refresh(table, cells, prep, rgb, s0, s1, t0):
     prep.t0[at] = new
 
 
-def evaluate_prepared(table, prep, rgb, years, out=None, cells=None):
+def evaluate_prepared(table, prep, rgb, years, out=None, cells=None, codes=False):
     """Aged linear sRGB of colours ``rgb`` (n, 3) after ``years``: as
     :func:`.colourtable.evaluate` with the rates of ``prep``, whose band is updated.
 
@@ -232,6 +233,10 @@ def evaluate_prepared(table, prep, rgb, years, out=None, cells=None):
         Written in its first three channels.
     cells : TableCells, optional
         :func:`table_cells` of ``table`` (made when not given; keep it for the next call).
+    codes : bool
+        Write the 8-bit sRGB codes over 255 of the aged colour (what a byte sRGB image
+        stores as that code: :func:`..colour.srgb8.srgb_code_floats`), encoded block by
+        block on the evaluator's threads, instead of the linear colour.
     """
     rgb = np.asarray(rgb, dtype=np.float32).reshape(-1, 3)
     n = rgb.shape[0]
@@ -239,7 +244,7 @@ def evaluate_prepared(table, prep, rgb, years, out=None, cells=None):
         raise ValueError(f"{n} colours for {prep.n} prepared texels")
     res = np.empty((n, 3), dtype=np.float32) if out is None else out
     if years == 0 and not table.history:
-        res[:, :3] = rgb
+        res[:, :3] = srgb_code_floats(rgb) if codes else rgb
         return res
     cells = table_cells(table) if cells is None else cells
 
@@ -249,7 +254,7 @@ def evaluate_prepared(table, prep, rgb, years, out=None, cells=None):
         _refresh(table, cells, prep, rgb, s0, s1, t0)
         change = prep.step[s0:s1] * ft
         change += prep.lo[s0:s1]
-        aged_colour(rgb[s0:s1], change, res[s0:s1])
+        aged_colour(rgb[s0:s1], change, res[s0:s1], codes)
 
     in_blocks(block, n, _BLOCK, _THREADS)
     return res
