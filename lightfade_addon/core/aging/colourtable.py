@@ -269,8 +269,7 @@ def aged_colour(rgb, change, out, codes=False):
     srgb_code_floats`)."""
     aged = rgb @ _to_XYZ().T
     aged *= np.exp(change)
-    planes = np.empty((3, aged.shape[0]), dtype=np.float32)
-    np.matmul(_to_rgb(), aged.T, out=planes)
+    planes = np.ascontiguousarray((aged @ _to_rgb().T).T)   # (n, 3) @ (3, 3): no BLAS threads
     into_gamut_planes(planes)
     if codes:
         srgb_code_floats(planes, out=planes)
