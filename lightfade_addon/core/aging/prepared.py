@@ -79,15 +79,19 @@ def _trilinear(cells, row, f):
     fastest axis first (k1, k2, k3), as the node group (bilinear over the first two,
     a Linear image lookup, then linear over the third): the 8 corner weights
     ``Π (1 - f) or f`` times the corners, one small matrix product per texel."""
-    one = 1.0 - f
-    w = np.empty((len(f), 8), dtype=np.float32)
-    for d3 in (0, 1):
-        for d2 in (0, 1):
-            p = (f if d3 else one)[:, 2] * (f if d2 else one)[:, 1]
-            w[:, 4 * d3 + 2 * d2] = p * one[:, 0]
-            w[:, 4 * d3 + 2 * d2 + 1] = p * f[:, 0]
-    g = np.take(cells, row, axis=0).reshape(-1, 8, 3)
-    return (w[:, None, :] @ g)[:, 0]
+    return (_corner_weights(f)[:, None, :] @ np.take(cells, row, axis=0).reshape(-1, 8, 3))[:, 0]
+
+
+def _corner_weights(f):
+    """(m, 8) float32 weights of the cell corners (corner ``(d3, d2, d1)`` at
+    ``4 d3 + 2 d2 + d1``) for fractions ``f`` (m, 3): ``(f3 or 1 - f3) · (f2 or 1 - f2)
+    · (f1 or 1 - f1)``, computed on (2, m) planes (contiguous, no per-column loop)."""
+    m = f.shape[0]
+    planes = np.empty((3, 2, m), dtype=np.float32)     # axis, (1 - f, f), texel
+    planes[:, 1] = f.T
+    np.subtract(np.float32(1.0), planes[:, 1], out=planes[:, 0])
+    w = (planes[2][:, None, None, :] * planes[1][None, :, None, :]) * planes[0][None, None]
+    return w.reshape(8, m).T
 
 
 def _cell(x, M):
