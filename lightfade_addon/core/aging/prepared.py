@@ -113,16 +113,21 @@ def _coordinates(table, cells, rgb):
 def _node(table, cells, u, slots, weights, t):
     """The change (m, 3) at dose nodes ``t`` (m,) of texels at node coordinates ``u``
     (m, 3), light-mix ``slots``, ``weights``: one node of
-    :func:`.colourtable.change_nodes`, through the change's cells."""
+    :func:`.colourtable.change_nodes`, through the change's cells. The light-mix
+    vertices share the cube cell and its corner weights, so their corners are mixed
+    first (``Σ_v w_v · corners_v``) and interpolated once."""
     N, T = table.side, table.T
     row, f = _cell(u, N)
-    acc = None
+    mixed = None
     for v in range(slots.shape[1]):
-        step = _trilinear(cells.change, ((slots[:, v] * T + t) * (N - 1) ** 3) + row, f)
+        corners = np.take(cells.change, ((slots[:, v] * T + t) * (N - 1) ** 3) + row, axis=0)
         if weights is not None:
-            step *= weights[:, v:v + 1]
-        acc = step if acc is None else acc + step
-    return acc
+            corners *= weights[:, v:v + 1]
+        if mixed is None:
+            mixed = corners
+        else:
+            mixed += corners
+    return (_corner_weights(f)[:, None, :] @ mixed.reshape(-1, 8, 3))[:, 0]
 
 
 @dataclass
