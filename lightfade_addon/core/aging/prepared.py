@@ -110,14 +110,22 @@ def _coordinates(table, cells, rgb):
     return np.clip(y, 0.0, 1.0) ** np.float32(1.0 / table.power) * np.float32(table.side - 1)
 
 
-def _node(table, cells, u, slots, weights, t):
-    """The change (m, 3) at dose nodes ``t`` (m,) of texels at node coordinates ``u``
-    (m, 3), light-mix ``slots``, ``weights``: one node of
+def _cube(table, u):
+    """``(row, corner weights)`` of texels at node coordinates ``u`` (m, 3) on the change
+    table's cube: the cell (:func:`_cell`) and its 8 corners' weights, the same at
+    every dose node and light-mix vertex."""
+    row, f = _cell(u, table.side)
+    return row, _corner_weights(f)
+
+
+def _node(table, cells, cube, slots, weights, t):
+    """The change (m, 3) at dose nodes ``t`` (m,) of texels in cube cells ``cube``
+    (:func:`_cube`), light-mix ``slots``, ``weights``: one node of
     :func:`.colourtable.change_nodes`, through the change's cells. The light-mix
     vertices share the cube cell and its corner weights, so their corners are mixed
     first (``Σ_v w_v · corners_v``) and interpolated once."""
     N, T = table.side, table.T
-    row, f = _cell(u, N)
+    row, w = cube
     mixed = None
     for v in range(slots.shape[1]):
         corners = np.take(cells.change, ((slots[:, v] * T + t) * (N - 1) ** 3) + row, axis=0)
@@ -127,7 +135,7 @@ def _node(table, cells, u, slots, weights, t):
             mixed = corners
         else:
             mixed += corners
-    return (_corner_weights(f)[:, None, :] @ mixed.reshape(-1, 8, 3))[:, 0]
+    return (w[:, None, :] @ mixed.reshape(-1, 8, 3))[:, 0]
 
 
 @dataclass
@@ -209,16 +217,16 @@ def _refresh(table, cells, prep, rgb, s0, s1, t0):
     up = (old == new - 1) & ~fresh
     down = old == new + 1
     slots, weights = _mix(prep, at, new.size)
-    u = prep.u[at]
-    found = _node(table, cells, u, slots, weights, new + up)     # up: t0 + 1, else t0
+    cube = _cube(table, prep.u[at])
+    found = _node(table, cells, cube, slots, weights, new + up)  # up: t0 + 1, else t0
     lo_old = prep.lo[at]
     lo = np.where(up[:, None], lo_old + prep.step[at], found)
     hi = np.where(up[:, None], found, lo_old)                    # down: the old t0
     far = np.flatnonzero(~(up | down))                           # new, or moved further
     if far.size == new.size:
-        hi = _node(table, cells, u, slots, weights, new + 1)
+        hi = _node(table, cells, cube, slots, weights, new + 1)
     elif far.size:
-        hi[far] = _node(table, cells, u[far], slots[far],
+        hi[far] = _node(table, cells, (cube[0][far], cube[1][far]), slots[far],
                         None if weights is None else weights[far], new[far] + 1)
     prep.lo[at] = lo
     prep.step[at] = hi - lo
