@@ -187,11 +187,28 @@ def prepare_texels(table, rates):
                           np.zeros((n, 3), np.float32))
 
 
+def _get(a, at):
+    """Rows ``at`` (a slice, or indices) of ``a``: a slice's view, else ``np.take`` (a
+    quarter of the cost of ``a[indices]`` on rows of a few floats)."""
+    return a[at] if isinstance(at, slice) else np.take(a, at, axis=0)
+
+
+def _set(a, at, values):
+    """``a[at] = values`` for rows of a C-contiguous ``a``: indices through ``np.put`` of
+    whole rows (each one opaque item), a third of the cost of ``a[indices] = values``."""
+    if isinstance(at, slice) or a.ndim == 1:
+        a[at] = values
+        return
+    row = np.dtype((np.void, a.itemsize * a.shape[1]))
+    values = np.ascontiguousarray(values, dtype=a.dtype)
+    np.put(a.view(row).reshape(-1), at, values.view(row).reshape(-1))
+
+
 def _mix(prep, at, n):
     """Light-mix ``slots``, ``weights`` of the ``n`` texels ``at`` (indices or a slice)."""
     if prep.slots is None:
         return np.zeros((n, 1), np.int32), None
-    return prep.slots[at], prep.weights[at]
+    return _get(prep.slots, at), _get(prep.weights, at)
 
 
 def _refresh(table, cells, prep, rgb, s0, s1, t0):
@@ -207,20 +224,20 @@ def _refresh(table, cells, prep, rgb, s0, s1, t0):
         return
     whole = moved.size == s1 - s0
     at, new = (slice(s0, s1), t0) if whole else (moved + s0, t0[moved])
-    old = prep.t0[at].astype(np.int32)
+    old = _get(prep.t0, at).astype(np.int32)
     fresh = old < 0
     if fresh.all():
-        prep.u[at] = _coordinates(table, cells, rgb[at])
+        _set(prep.u, at, _coordinates(table, cells, _get(rgb, at)))
     elif fresh.any():
         rows = np.flatnonzero(fresh) + s0 if whole else at[fresh]
-        prep.u[rows] = _coordinates(table, cells, rgb[rows])
+        _set(prep.u, rows, _coordinates(table, cells, np.take(rgb, rows, axis=0)))
     up = (old == new - 1) & ~fresh
     down = old == new + 1
     slots, weights = _mix(prep, at, new.size)
-    cube = _cube(table, prep.u[at])
+    cube = _cube(table, _get(prep.u, at))
     found = _node(table, cells, cube, slots, weights, new + up)  # up: t0 + 1, else t0
-    lo_old = prep.lo[at]
-    lo = np.where(up[:, None], lo_old + prep.step[at], found)
+    lo_old = _get(prep.lo, at)
+    lo = np.where(up[:, None], lo_old + _get(prep.step, at), found)
     hi = np.where(up[:, None], found, lo_old)                    # down: the old t0
     far = np.flatnonzero(~(up | down))                           # new, or moved further
     if far.size == new.size:
@@ -228,9 +245,10 @@ def _refresh(table, cells, prep, rgb, s0, s1, t0):
     elif far.size:
         hi[far] = _node(table, cells, (cube[0][far], cube[1][far]), slots[far],
                         None if weights is None else weights[far], new[far] + 1)
-    prep.lo[at] = lo
-    prep.step[at] = hi - lo
-    prep.t0[at] = new
+    _set(prep.lo, at, lo)
+    hi -= lo
+    _set(prep.step, at, hi)
+    _set(prep.t0, at, new)
 
 
 def evaluate_prepared(table, prep, rgb, years, out=None, cells=None, codes=False):
