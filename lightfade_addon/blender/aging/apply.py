@@ -30,7 +30,7 @@ from .instances import INSTANCES_STALE, apply_problem, instances_stale
 from ..pixels import write_rgba
 from ..source import find_colour_socket
 from .years import get_years, write_years
-from ...core.colour.colorimetry import srgb_encode
+from ...core.colour.srgb8 import srgb_code_floats
 from .group import GROUP_VERSION
 from ..parts.properties import parts_digest
 
@@ -238,8 +238,8 @@ def write_aged_file(scene, copy, years, path):
             image.colorspace_settings.name = "Linear Rec.709"
             image.file_format = "OPEN_EXR"
         else:
-            rgba = rgba.copy()
-            rgba[..., :3] = srgb_encode(np.clip(rgba[..., :3], 0.0, 1.0))
+            rgba = rgba.copy()                      # each 8-bit code through a table
+            rgba[..., :3] = srgb_code_floats(rgba[..., :3])
             image.colorspace_settings.name = "sRGB"
             image.file_format = "PNG"
         write_rgba(image, rgba)
