@@ -26,7 +26,7 @@ from ...core.aging.restore import Prior
 from . import data as agingdata
 from .copies import GROUP_NODE, insert_group, walk
 from ..errors import AgingError
-from ..exposure import exposure_images, exposure_signature
+from ..exposure import exposure_images, exposure_shape, exposure_signature
 from .grids import SceneGridStore
 from .group import VERSION_KEY, GroupSpec, new_group
 from ..parts.properties import parts_digest
@@ -82,16 +82,15 @@ def held_colour(scene, copy, state=None):
     The colour is read (and its digest computed) only when its :func:`colour_state`
     (``state``, when the caller has it) is unknown or changed: a clean texture's
     colour is held (16 bytes a texel), so that writing aged images at other years
-    (frame images, Apply) reads, decodes and digests nothing. Not to be written to."""
-    from .apply import original_pixels
-
+    (frame images, Apply) reads, decodes and digests nothing. Not to be written to. On
+    the baked path the caller makes the albedo first (:func:`.apply.ensure_albedo`)."""
     slot = _slot(copy, None)
     state = colour_state(copy) if state is None else state
     held = _COLOURS.get(slot)
     if state is not None and held is not None and held[0] == state:
         rgba = held[1]
         return rgba, (*inputs_key(scene, copy), rgba.shape, held[2])
-    rgba = original_pixels(scene, copy)
+    rgba = original_rgba(copy, exposure_shape(copy.lightfade.aged_object) or (64, 64))
     key = twin_key(scene, copy, rgba)
     if state is None:
         _COLOURS.pop(slot, None)
