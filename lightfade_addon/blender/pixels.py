@@ -9,6 +9,7 @@ import bpy
 import numpy as np
 
 from ..core.colour.colorimetry import srgb_decode
+from ..core.colour.srgb8 import encode_srgb_f32
 
 #: Colour spaces whose stored values LightFade can read without Blender's colour
 #: management: sRGB (decoded here) and linear Rec.709 / data (taken as they are).
@@ -63,10 +64,9 @@ def decode_srgb_bytes(values):
 def encode_srgb(linear):
     """sRGB-encoded float32 of linear values in [0, 1] (IEC 61966-2-1, as
     :func:`..core.colour.colorimetry.srgb_encode`, in float32 without a copy to float64):
-    what a byte image in an sRGB colour space is given, Blender rounding it to a code."""
-    x = np.clip(np.asarray(linear, dtype=np.float32), 0.0, 1.0)
-    high = np.float32(1.055) * np.power(x, np.float32(1.0 / 2.4)) - np.float32(0.055)
-    return np.where(x <= np.float32(0.0031308), np.float32(12.92) * x, high)
+    what a byte image in an sRGB colour space is given, Blender rounding it to a code
+    (:mod:`..core.colour.srgb8` gives that code through a table)."""
+    return encode_srgb_f32(linear)
 
 
 def read_linear(image):

@@ -314,3 +314,31 @@ def test_eevee_renders_the_live_material(textured, tmp_path, monkeypatch):
     frames.on_render_pre(scene)
     assert len(called) == 1 and switched(frames) == [1.0]
     frames.on_render_end(scene)
+
+
+def test_apply_ages_the_colour_held_until_the_texture_is_painted(textured, monkeypatch):
+    """Apply to Images reads a clean texture once (the frame images and Apply share the
+    colour held); painted, the texture is read again and the applied image follows
+    it, against the evaluator of the colour read afresh."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging import frames, runtime
+
+    scene = bpy.context.scene
+    _bake_and_age(years=8)
+    copy = the_copy(textured["material"])
+    albedo = copy.lightfade.albedo
+    albedo.pack()
+    reads, _runs = _counting(monkeypatch)
+    frames.write_frames(scene, 8.0)
+    api.apply_aging(scene, 9.0)
+    api.apply_aging(scene, 10.0)
+    assert len(reads) == 1
+    px = rgba(albedo)
+    px[..., :3] *= 0.5                                           # painted darker
+    albedo.pixels.foreach_set(px.ravel())
+    applied = rgba(api.apply_aging(scene, 10.0)[copy.name])
+    assert len(reads) == 2
+    fresh = runtime.original_rgba(copy, (1, 1))
+    want = runtime.aged_rgb(scene, copy, fresh.copy(), 10.0)
+    np.testing.assert_allclose(applied[..., :3], want[..., :3], atol=1e-6)
+    assert_holds(frames.write_frames(scene, 10.0)[copy.name], want)

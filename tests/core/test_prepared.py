@@ -85,9 +85,9 @@ class TestBand:
         counted = []
         real = prep_module._node
 
-        def node(table, cells, u, *args):
-            counted.append(len(u))
-            return real(table, cells, u, *args)
+        def node(table, cells, cube, *args):
+            counted.append(len(cube[0]))                 # texels of the cells looked up
+            return real(table, cells, cube, *args)
 
         monkeypatch.setattr(prep_module, "_node", node)
         evaluate_prepared(table, prep, rgb, 10.0)

@@ -30,7 +30,7 @@ from .instances import INSTANCES_STALE, apply_problem, instances_stale
 from ..pixels import write_rgba
 from ..source import find_colour_socket
 from .years import get_years, write_years
-from ...core.colour.colorimetry import srgb_encode
+from ...core.colour.srgb8 import srgb_code_floats
 from .group import GROUP_VERSION
 from ..parts.properties import parts_digest
 
@@ -176,10 +176,15 @@ def original_pixels(scene, copy):
 def aged_pixels(scene, copy, years):
     """(H, W, 4) float32 linear aged colour of ``copy`` (the numpy evaluator): its colour
     at each texel centre lit by the exposure maps sampled there, as the group does."""
-    original = original_pixels(scene, copy)
     if len(copy.lightfade.lanes):                    # several recipes by mask
+        original = original_pixels(scene, copy)
         return parts.aged_pixels(scene, _view_layer(scene), copy, original, years)
-    return runtime.aged_rgb(scene, copy, original, years)
+    if copy.lightfade.path == "BAKED":
+        ensure_albedo(scene, copy)
+    original, key = runtime.held_colour(scene, copy)   # read only when it changed
+    out = np.empty_like(original)
+    out[..., 3] = original[..., 3]
+    return runtime.aged_rgb(scene, copy, original, years, key=key, out=out)
 
 
 def apply_copy(scene, copy, years):
@@ -233,8 +238,8 @@ def write_aged_file(scene, copy, years, path):
             image.colorspace_settings.name = "Linear Rec.709"
             image.file_format = "OPEN_EXR"
         else:
-            rgba = rgba.copy()
-            rgba[..., :3] = srgb_encode(np.clip(rgba[..., :3], 0.0, 1.0))
+            rgba = rgba.copy()                      # each 8-bit code through a table
+            rgba[..., :3] = srgb_code_floats(rgba[..., :3])
             image.colorspace_settings.name = "sRGB"
             image.file_format = "PNG"
         write_rgba(image, rgba)

@@ -31,12 +31,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import bpy
+import numpy as np
 from bpy.app.handlers import persistent
 
 from . import runtime
 from .instances import apply_problem
 from ..exposure import exposure_shape
-from ..pixels import encode_srgb, stored_state
 from .copies import _colour_socket, _duplicate, copies_of
 from .years import get_years, years_fcurve
 from ..source import FRAME_MIX, GATE_MIX
@@ -131,29 +131,15 @@ _WRITTEN = {}
 @dataclass
 class Held:
     """What a frame image was written from: the twin's key (:func:`.runtime.twin_key`:
-    table, signature, exposure, size, the colour's CRC), the years, the image's size,
-    the colour's :func:`source_state` (None: read the colour to compare) and, where
-    that state is known, the colour itself ((H, W, 4) float32 linear: the next years
-    value ages it without reading the texture again)."""
+    table, signature, exposure, size, the colour's CRC), the years, the image's size
+    and the colour's :func:`.runtime.colour_state` (None: read the colour to compare;
+    where it is known, :func:`.runtime.held_colour` holds the colour itself, so the
+    next years value ages it without reading the texture again)."""
 
     key: tuple
     years: float
     size: tuple
     state: tuple | None
-    colour: object = None
-
-
-def source_state(copy):
-    """What ``copy``'s colour is, without reading its pixels (:func:`..pixels.
-    stored_state` of its albedo image, or its flat colour); None where the pixels must
-    be read to know (an image painted or written since it was loaded or saved)."""
-    props = copy.lightfade
-    if props.path == "FLAT":
-        return ("flat", tuple(props.flat_colour))
-    if props.albedo is None:
-        return None
-    state = stored_state(props.albedo)
-    return None if state is None else (props.path, *state)
 
 
 #: How much coarser than its exposure maps a texture may be and still render from frame
@@ -186,9 +172,11 @@ def write_frame(scene, copy, years):
     without a frame branch).
 
     "Already" is known without reading the colour where its image is as it was loaded,
-    saved or generated (:func:`source_state`); else the colour is read and its CRC
-    compared (:func:`.runtime.twin_key`): tens of ms per Mtexel."""
-    from .apply import ensure_albedo, original_pixels
+    saved or generated (:func:`.runtime.colour_state`); else the colour is read and its
+    CRC compared (:func:`.runtime.twin_key`): tens of ms per Mtexel. The aged colour is
+    encoded to the image's 8-bit sRGB codes block by block as it is evaluated
+    (:func:`..core.colour.srgb8.srgb_code_floats`: a table, no power per texel)."""
+    from .apply import ensure_albedo
 
     image = frame_image(copy)
     if image is None or not renders_frames(copy):
@@ -196,32 +184,26 @@ def write_frame(scene, copy, years):
     years = float(years)
     if copy.lightfade.path == "BAKED":
         ensure_albedo(scene, copy)
-    state = source_state(copy)
+    state = runtime.colour_state(copy)
     held = _WRITTEN.get(image.as_pointer())
-    inputs = runtime.inputs_key(scene, copy)
-    same = (held is not None and tuple(image.size) == held.size and held.key[:-2] == inputs)
-    known = same and state is not None and held.state == state
-    if known and held.years == years:
+    same = held is not None and tuple(image.size) == held.size
+    if same and state is not None and held.state == state and held.years == years \
+            and held.key[:-2] == runtime.inputs_key(scene, copy):
         return image
-    if known and held.colour is not None:            # the colour held: not read again
-        colour = held.colour
-        rgba, key = colour.copy(), (*inputs, *held.key[-2:])
-    else:
-        rgba = original_pixels(scene, copy)
-        key = runtime.twin_key(scene, copy, rgba)
-        if same and held.key == key and held.years == years:
-            held.state, held.colour = state, None if state is None else rgba
-            return image
-        colour = None if state is None else rgba.copy()
-    H, W = rgba.shape[:2]
-    runtime.aged_rgb(scene, copy, rgba, years, key=key)
+    colour, key = runtime.held_colour(scene, copy, state)
+    if same and held.key == key and held.years == years:
+        held.state = state
+        return image
+    H, W = colour.shape[:2]
+    codes = np.empty_like(colour)
+    codes[..., 3] = colour[..., 3]
+    runtime.aged_rgb(scene, copy, colour, years, key=key, out=codes, codes=True)
     if tuple(image.size) != (W, H):
         image.generated_width, image.generated_height = W, H
-    rgba[..., :3] = encode_srgb(rgba[..., :3])
-    image.pixels.foreach_set(rgba.reshape(-1))
+    image.pixels.foreach_set(codes.reshape(-1))
     image.update()
     image["lightfade_years"] = years
-    _WRITTEN[image.as_pointer()] = Held(key, years, (W, H), state, colour)
+    _WRITTEN[image.as_pointer()] = Held(key, years, (W, H), state)
     return image
 
 

@@ -26,11 +26,11 @@ from ...core.aging.restore import Prior
 from . import data as agingdata
 from .copies import GROUP_NODE, insert_group, walk
 from ..errors import AgingError
-from ..exposure import exposure_images, exposure_signature
+from ..exposure import exposure_images, exposure_shape, exposure_signature
 from .grids import SceneGridStore
 from .group import VERSION_KEY, GroupSpec, new_group
 from ..parts.properties import parts_digest
-from ..pixels import read_linear, read_rgba
+from ..pixels import read_linear, read_rgba, stored_state
 from ..vocabulary import RECIPE_IDS, SPECTRUM_IDS
 
 #: The grid a restoration (Already Aged) solves on (the tests patch in a coarser one).
@@ -44,18 +44,60 @@ _EVALUATORS = {}
 #: The copies' prepared texels (:mod:`..core.aging.prepared`), same keys:
 #: ``(inputs key, colour digest, PreparedTexels)``.
 _PREPARED = {}
+#: The copies' colours held while their images are as loaded (:func:`held_colour`),
+#: keyed by (``session_uid``, ""): ``(colour state, (H, W, 4) linear, colour digest)``.
+_COLOURS = {}
 
 
 def clear():
-    """Forget every cached evaluator and prepared texels (file load, reset, unregister)."""
+    """Forget every cached evaluator, prepared texels and held colour (file load, reset,
+    unregister)."""
     _EVALUATORS.clear()
     _PREPARED.clear()
+    _COLOURS.clear()
 
 
 def forget(copy):
-    for cache in (_EVALUATORS, _PREPARED):
+    for cache in (_EVALUATORS, _PREPARED, _COLOURS):
         for key in [k for k in cache if k[0] == copy.session_uid]:
             del cache[key]
+
+
+def colour_state(copy):
+    """What ``copy``'s colour is, without reading its pixels (:func:`..pixels.
+    stored_state` of its albedo image, or its flat colour); None where the pixels must
+    be read to know (an image painted or written since it was loaded or saved)."""
+    props = copy.lightfade
+    if props.path == "FLAT":
+        return ("flat", tuple(props.flat_colour))
+    if props.albedo is None:
+        return None
+    state = stored_state(props.albedo)
+    return None if state is None else (props.path, *state)
+
+
+def held_colour(scene, copy, state=None):
+    """``((H, W, 4) linear colour the copy ages, its twin key)`` (:func:`twin_key`).
+
+    The colour is read (and its digest computed) only when its :func:`colour_state`
+    (``state``, when the caller has it) is unknown or changed: a clean texture's
+    colour is held (16 bytes a texel), so that writing aged images at other years
+    (frame images, Apply) reads, decodes and digests nothing. Not to be written to. On
+    the baked path the caller makes the albedo first (:func:`.apply.ensure_albedo`)."""
+    slot = _slot(copy, None)
+    state = colour_state(copy) if state is None else state
+    held = _COLOURS.get(slot)
+    if state is not None and held is not None and held[0] == state:
+        rgba = held[1]
+        return rgba, (*inputs_key(scene, copy), rgba.shape, held[2])
+    rgba = original_rgba(copy, exposure_shape(copy.lightfade.aged_object) or (64, 64))
+    key = twin_key(scene, copy, rgba)
+    if state is None:
+        _COLOURS.pop(slot, None)
+    else:
+        rgba.flags.writeable = False
+        _COLOURS[slot] = (state, rgba, key[-1])
+    return rgba, key
 
 
 def material_recipe(material):
@@ -261,9 +303,12 @@ def twin_key(scene, copy, rgba, lane=None):
     return (*inputs_key(scene, copy, lane), flat.shape, zlib.crc32(flat.data))
 
 
-def aged_rgb(scene, copy, rgba, years, lane=None, key=None):
-    """Aged linear colour (in place in ``rgba``'s first three channels, (H, W, 4)) of
-    ``copy`` (or its ``lane``) at ``years``: the numpy twin of the node group.
+def aged_rgb(scene, copy, rgba, years, lane=None, key=None, out=None, codes=False):
+    """Aged linear colour (in place in ``rgba``'s first three channels, (H, W, 4), or in
+    ``out``'s, the same shape) of ``copy`` (or its ``lane``) colour ``rgba`` at
+    ``years``: the numpy twin of the node group. With ``codes``, the 8-bit sRGB codes
+    over 255 of that colour (what a byte sRGB image is given, :func:`..core.colour.
+    srgb8.srgb_code_floats`).
 
     Everything that does not depend on the years — the texels' annual doses, light-mix
     vertices and, for the years last asked, the change at the two dose nodes around
@@ -289,6 +334,7 @@ def aged_rgb(scene, copy, rgba, years, lane=None, key=None):
         if cached[1] != digest:                      # the colour changed: no band is valid
             prep.t0[:] = -1
     _PREPARED[slot] = (inputs_key, digest, prep)
-    evaluate_prepared(table, prep, flat[:, :3], float(years), out=flat,
-                      cells=_cells(copy, lane, table))
-    return rgba
+    target = flat if out is None else out.reshape(H * W, 4)
+    evaluate_prepared(table, prep, flat[:, :3], float(years), out=target,
+                      cells=_cells(copy, lane, table), codes=codes)
+    return rgba if out is None else out

@@ -42,6 +42,7 @@ against each other texel by texel.
 
 from __future__ import annotations
 
+import functools
 import math
 import os
 from dataclasses import dataclass
@@ -51,6 +52,7 @@ import numpy as np
 
 from ..colour.colorimetry import XYZ_to_linear_srgb, linear_srgb_to_XYZ
 from ..colour.gamut import into_gamut_planes
+from ..colour.srgb8 import srgb_code_floats
 from .table import in_blocks, simplex_slots
 
 __all__ = ["AtlasLayout", "ColourTable", "atlas_layout", "atlas_pixels", "coordinates",
@@ -166,12 +168,20 @@ def dose_nodes(low_dose, per_decade, T):
     return np.concatenate([[0.0], low_dose * 10.0 ** (np.arange(T - 1) / per_decade)])
 
 
+@functools.cache
 def _to_rgb():
-    return XYZ_to_linear_srgb(np.eye(3)).T.astype(np.float32)
+    """XYZ -> linear sRGB (3, 3) float32, read-only (made once)."""
+    m = XYZ_to_linear_srgb(np.eye(3)).T.astype(np.float32)
+    m.flags.writeable = False
+    return m
 
 
+@functools.cache
 def _to_XYZ():
-    return linear_srgb_to_XYZ(np.eye(3)).T.astype(np.float32)
+    """Linear sRGB -> XYZ (3, 3) float32, read-only (made once)."""
+    m = linear_srgb_to_XYZ(np.eye(3)).T.astype(np.float32)
+    m.flags.writeable = False
+    return m
 
 
 def _bilinear(cells, N, tile, x, y):
@@ -252,12 +262,17 @@ def _change(table, values, u, rates, years):
     return lo + ft * (hi - lo)
 
 
-def aged_colour(rgb, change, out):
+def aged_colour(rgb, change, out, codes=False):
     """``into_gamut(M⁻¹ · (M · rgb) · exp(change))`` of (n, 3) linear colours into the
-    first three channels of ``out`` (n, >= 3)."""
-    aged = (rgb @ _to_XYZ().T) * np.exp(change)
-    planes = np.ascontiguousarray((aged @ _to_rgb().T).T)
+    first three channels of ``out`` (n, >= 3); with ``codes``, as the 8-bit sRGB codes
+    over 255 that a byte sRGB image stores for it (:func:`..colour.srgb8.
+    srgb_code_floats`)."""
+    aged = rgb @ _to_XYZ().T
+    aged *= np.exp(change)
+    planes = np.ascontiguousarray((aged @ _to_rgb().T).T)   # (n, 3) @ (3, 3): no BLAS threads
     into_gamut_planes(planes)
+    if codes:
+        srgb_code_floats(planes, out=planes)
     out[:, :3] = planes.T
     return out
 

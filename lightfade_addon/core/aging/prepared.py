@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..colour.srgb8 import srgb_code_floats
 from .colourtable import _BLOCK, _THREADS, aged_colour, dose_node, mix_vertices
 from .table import in_blocks
 
@@ -78,15 +79,19 @@ def _trilinear(cells, row, f):
     fastest axis first (k1, k2, k3), as the node group (bilinear over the first two,
     a Linear image lookup, then linear over the third): the 8 corner weights
     ``Π (1 - f) or f`` times the corners, one small matrix product per texel."""
-    one = 1.0 - f
-    w = np.empty((len(f), 8), dtype=np.float32)
-    for d3 in (0, 1):
-        for d2 in (0, 1):
-            p = (f if d3 else one)[:, 2] * (f if d2 else one)[:, 1]
-            w[:, 4 * d3 + 2 * d2] = p * one[:, 0]
-            w[:, 4 * d3 + 2 * d2 + 1] = p * f[:, 0]
-    g = np.take(cells, row, axis=0).reshape(-1, 8, 3)
-    return (w[:, None, :] @ g)[:, 0]
+    return (_corner_weights(f)[:, None, :] @ np.take(cells, row, axis=0).reshape(-1, 8, 3))[:, 0]
+
+
+def _corner_weights(f):
+    """(m, 8) float32 weights of the cell corners (corner ``(d3, d2, d1)`` at
+    ``4 d3 + 2 d2 + d1``) for fractions ``f`` (m, 3): ``(f3 or 1 - f3) · (f2 or 1 - f2)
+    · (f1 or 1 - f1)``, computed on (2, m) planes (contiguous, no per-column loop)."""
+    m = f.shape[0]
+    planes = np.empty((3, 2, m), dtype=np.float32)     # axis, (1 - f, f), texel
+    planes[:, 1] = f.T
+    np.subtract(np.float32(1.0), planes[:, 1], out=planes[:, 0])
+    w = (planes[2][:, None, None, :] * planes[1][None, :, None, :]) * planes[0][None, None]
+    return w.reshape(8, m).T
 
 
 def _cell(x, M):
@@ -105,19 +110,32 @@ def _coordinates(table, cells, rgb):
     return np.clip(y, 0.0, 1.0) ** np.float32(1.0 / table.power) * np.float32(table.side - 1)
 
 
-def _node(table, cells, u, slots, weights, t):
-    """The change (m, 3) at dose nodes ``t`` (m,) of texels at node coordinates ``u``
-    (m, 3), light-mix ``slots``, ``weights``: one node of
-    :func:`.colourtable.change_nodes`, through the change's cells."""
+def _cube(table, u):
+    """``(row, corner weights)`` of texels at node coordinates ``u`` (m, 3) on the change
+    table's cube: the cell (:func:`_cell`) and its 8 corners' weights, the same at
+    every dose node and light-mix vertex."""
+    row, f = _cell(u, table.side)
+    return row, _corner_weights(f)
+
+
+def _node(table, cells, cube, slots, weights, t):
+    """The change (m, 3) at dose nodes ``t`` (m,) of texels in cube cells ``cube``
+    (:func:`_cube`), light-mix ``slots``, ``weights``: one node of
+    :func:`.colourtable.change_nodes`, through the change's cells. The light-mix
+    vertices share the cube cell and its corner weights, so their corners are mixed
+    first (``Σ_v w_v · corners_v``) and interpolated once."""
     N, T = table.side, table.T
-    row, f = _cell(u, N)
-    acc = None
+    row, w = cube
+    mixed = None
     for v in range(slots.shape[1]):
-        step = _trilinear(cells.change, ((slots[:, v] * T + t) * (N - 1) ** 3) + row, f)
+        corners = np.take(cells.change, ((slots[:, v] * T + t) * (N - 1) ** 3) + row, axis=0)
         if weights is not None:
-            step *= weights[:, v:v + 1]
-        acc = step if acc is None else acc + step
-    return acc
+            corners *= weights[:, v:v + 1]
+        if mixed is None:
+            mixed = corners
+        else:
+            mixed += corners
+    return (w[:, None, :] @ mixed.reshape(-1, 8, 3))[:, 0]
 
 
 @dataclass
@@ -169,11 +187,28 @@ def prepare_texels(table, rates):
                           np.zeros((n, 3), np.float32))
 
 
+def _get(a, at):
+    """Rows ``at`` (a slice, or indices) of ``a``: a slice's view, else ``np.take`` (a
+    quarter of the cost of ``a[indices]`` on rows of a few floats)."""
+    return a[at] if isinstance(at, slice) else np.take(a, at, axis=0)
+
+
+def _set(a, at, values):
+    """``a[at] = values`` for rows of a C-contiguous ``a``: indices through ``np.put`` of
+    whole rows (each one opaque item), a third of the cost of ``a[indices] = values``."""
+    if isinstance(at, slice) or a.ndim == 1:
+        a[at] = values
+        return
+    row = np.dtype((np.void, a.itemsize * a.shape[1]))
+    values = np.ascontiguousarray(values, dtype=a.dtype)
+    np.put(a.view(row).reshape(-1), at, values.view(row).reshape(-1))
+
+
 def _mix(prep, at, n):
     """Light-mix ``slots``, ``weights`` of the ``n`` texels ``at`` (indices or a slice)."""
     if prep.slots is None:
         return np.zeros((n, 1), np.int32), None
-    return prep.slots[at], prep.weights[at]
+    return _get(prep.slots, at), _get(prep.weights, at)
 
 
 def _refresh(table, cells, prep, rgb, s0, s1, t0):
@@ -189,33 +224,34 @@ def _refresh(table, cells, prep, rgb, s0, s1, t0):
         return
     whole = moved.size == s1 - s0
     at, new = (slice(s0, s1), t0) if whole else (moved + s0, t0[moved])
-    old = prep.t0[at].astype(np.int32)
+    old = _get(prep.t0, at).astype(np.int32)
     fresh = old < 0
     if fresh.all():
-        prep.u[at] = _coordinates(table, cells, rgb[at])
+        _set(prep.u, at, _coordinates(table, cells, _get(rgb, at)))
     elif fresh.any():
         rows = np.flatnonzero(fresh) + s0 if whole else at[fresh]
-        prep.u[rows] = _coordinates(table, cells, rgb[rows])
+        _set(prep.u, rows, _coordinates(table, cells, np.take(rgb, rows, axis=0)))
     up = (old == new - 1) & ~fresh
     down = old == new + 1
     slots, weights = _mix(prep, at, new.size)
-    u = prep.u[at]
-    found = _node(table, cells, u, slots, weights, new + up)     # up: t0 + 1, else t0
-    lo_old = prep.lo[at]
-    lo = np.where(up[:, None], lo_old + prep.step[at], found)
+    cube = _cube(table, _get(prep.u, at))
+    found = _node(table, cells, cube, slots, weights, new + up)  # up: t0 + 1, else t0
+    lo_old = _get(prep.lo, at)
+    lo = np.where(up[:, None], lo_old + _get(prep.step, at), found)
     hi = np.where(up[:, None], found, lo_old)                    # down: the old t0
     far = np.flatnonzero(~(up | down))                           # new, or moved further
     if far.size == new.size:
-        hi = _node(table, cells, u, slots, weights, new + 1)
+        hi = _node(table, cells, cube, slots, weights, new + 1)
     elif far.size:
-        hi[far] = _node(table, cells, u[far], slots[far],
+        hi[far] = _node(table, cells, (cube[0][far], cube[1][far]), slots[far],
                         None if weights is None else weights[far], new[far] + 1)
-    prep.lo[at] = lo
-    prep.step[at] = hi - lo
-    prep.t0[at] = new
+    _set(prep.lo, at, lo)
+    hi -= lo
+    _set(prep.step, at, hi)
+    _set(prep.t0, at, new)
 
 
-def evaluate_prepared(table, prep, rgb, years, out=None, cells=None):
+def evaluate_prepared(table, prep, rgb, years, out=None, cells=None, codes=False):
     """Aged linear sRGB of colours ``rgb`` (n, 3) after ``years``: as
     :func:`.colourtable.evaluate` with the rates of ``prep``, whose band is updated.
 
@@ -232,6 +268,10 @@ def evaluate_prepared(table, prep, rgb, years, out=None, cells=None):
         Written in its first three channels.
     cells : TableCells, optional
         :func:`table_cells` of ``table`` (made when not given; keep it for the next call).
+    codes : bool
+        Write the 8-bit sRGB codes over 255 of the aged colour (what a byte sRGB image
+        stores as that code: :func:`..colour.srgb8.srgb_code_floats`), encoded block by
+        block on the evaluator's threads, instead of the linear colour.
     """
     rgb = np.asarray(rgb, dtype=np.float32).reshape(-1, 3)
     n = rgb.shape[0]
@@ -239,7 +279,7 @@ def evaluate_prepared(table, prep, rgb, years, out=None, cells=None):
         raise ValueError(f"{n} colours for {prep.n} prepared texels")
     res = np.empty((n, 3), dtype=np.float32) if out is None else out
     if years == 0 and not table.history:
-        res[:, :3] = rgb
+        res[:, :3] = srgb_code_floats(rgb) if codes else rgb
         return res
     cells = table_cells(table) if cells is None else cells
 
@@ -249,7 +289,7 @@ def evaluate_prepared(table, prep, rgb, years, out=None, cells=None):
         _refresh(table, cells, prep, rgb, s0, s1, t0)
         change = prep.step[s0:s1] * ft
         change += prep.lo[s0:s1]
-        aged_colour(rgb[s0:s1], change, res[s0:s1])
+        aged_colour(rgb[s0:s1], change, res[s0:s1], codes)
 
     in_blocks(block, n, _BLOCK, _THREADS)
     return res

@@ -101,6 +101,17 @@ def simplex_slots(w, q):
     N, S = w.shape
     if S == 1:
         return np.zeros((N, 1), dtype=np.int32), np.ones((N, 1), dtype=np.float32)
+    if S == 2:                      # one coordinate: rank 0, vertices base and base + 1
+        y = np.clip(np.float32(q) * w[:, 0], 0, q)
+        base = np.minimum(np.floor(y), q - 1)
+        f = (y - base).astype(np.float32)
+        slots = np.empty((N, 2), dtype=np.int32)
+        slots[:, 0] = base
+        slots[:, 1] = slots[:, 0] + 1
+        weights = np.empty((N, 2), dtype=np.float32)
+        np.subtract(np.float32(1.0), f, out=weights[:, 0])
+        weights[:, 1] = f
+        return slots, weights
     y = np.clip(np.float32(q) * np.cumsum(w, axis=1, dtype=np.float32)[:, :-1], 0, q)
     base = np.minimum(np.floor(y), q - 1)
     f = (y - base).astype(np.float32)
