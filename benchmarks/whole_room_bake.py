@@ -5,6 +5,7 @@ Usage (from the repository root; the assets are not part of the repository; abou
 minutes on 2 quiet cores)::
 
     python benchmarks/whole_room_bake.py ASSET_DIR [--seed 0] [--repeat 1]
+    python benchmarks/whole_room_bake.py ASSET_DIR --targets 0.12,0.15,0.2   # the choice
 
 ``tools/furnished_room.py``'s room (Drake's furnished living room: 14 objects, about
 13 M texels at the scene's default density, annual daylight at 52° N through one
@@ -15,7 +16,10 @@ sky map and Cycles' kernels).  Printed: each bake's wall and CPU seconds and the
 ratio (target: at most 1.6), the CPU by kind of work (the Cycles operator, the reading
 back and denoising of each pass, the 3D filter and the measurement), and per object the noise the default bake reached
 (p95 per lit texel, the error of its mean), its samples and passes, and whether it hit
-the cap.  Only the CPU ratio counts on a shared machine.
+the cap.  Only the CPU ratio counts on a shared machine.  ``--targets`` bakes the Final
+preset once per per-texel noise target given (the fixed bake once, first) and prints,
+for each, the CPU ratio, the Cycles calls and the samples and noise of every object:
+what a looser or tighter target would cost.
 """
 
 from __future__ import annotations
@@ -47,6 +51,7 @@ def cpu_by_kind(totals):
 
     def timed(fn, kind):
         def call(*args, **kwargs):
+            totals[kind + " calls"] += 1
             start = time.process_time()
             try:
                 return fn(*args, **kwargs)
@@ -63,13 +68,15 @@ def cpu_by_kind(totals):
             setattr(cls, name, fn)
 
 
-def bake(scene, objects, quality, seed):
+def bake(scene, objects, quality, seed, target=None):
     from lightfade_addon.blender.bake import BakeSettings, bake_exposure
 
     scene.lightfade_bake.quality = quality
     scene.lightfade.bake_samples = 8
     settings = BakeSettings.from_scene(scene)
     settings.seed = seed
+    if target is not None:
+        settings.noise_target = target
     kinds = collections.defaultdict(float)
     with cpu_by_kind(kinds):
         wall, cpu = time.perf_counter(), time.process_time()
@@ -84,6 +91,9 @@ def main():
     parser.add_argument("assets", help="directory of the glTF models (tools/furnished_room.py)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--repeat", type=int, default=1, help="alternated runs of each bake")
+    parser.add_argument("--targets", default="",
+                        help="comma-separated per-texel noise targets (p95, fractions) for "
+                             "the Final bake: one bake each, against one fixed bake")
     args = parser.parse_args()
 
     from tools import furnished_room
@@ -94,6 +104,9 @@ def main():
     objects = list(find_targets(scene))
     bake_exposure(scene, objects[:1], BakeSettings.from_scene(scene),   # warm: sky, kernels
                   report=lambda m: None, progress=lambda f, m: None)
+    if args.targets:
+        return compare_targets(scene, objects, args.seed,
+                               [float(t) for t in args.targets.split(",")])
     cost = {"fixed 8 (CUSTOM)": [0.0, 0.0, collections.Counter()],
             "default (FINAL)": [0.0, 0.0, collections.Counter()]}
     noise = {}
@@ -119,6 +132,30 @@ def main():
         mean = "-" if found.mean is None else f"{found.mean:.2%}"
         print(f"{obj + ' <- ' + group:<48}{p95:>7}{mean:>8}{found.samples:>6}"
               f"{found.passes:>8}  {'hit' if found.capped else ''}")
+
+
+
+def compare_targets(scene, objects, seed, targets):
+    """The fixed bake once, then Final at each of ``targets``: cost ratio, calls, and
+    each object's samples and noise per target."""
+    _, _, base, kinds = bake(scene, objects, "CUSTOM", seed)
+    print(f"  fixed 8: CPU {base:.1f} s ({kinds['Cycles calls']:.0f} Cycles calls)", flush=True)
+    rows, found = [], {}
+    for target in targets:
+        result, wall, cpu, kinds = bake(scene, objects, "FINAL", seed, target)
+        rows.append((target, cpu, kinds["Cycles calls"], kinds["denoise calls"]))
+        found[target] = result["noise"]
+        print(f"  Final at {target:.0%}: wall {wall:.1f} s, CPU {cpu:.1f} s", flush=True)
+    print(f"\n{'per-texel target (p95)':<26}{'CPU s':>8}{'CPU ÷ fixed':>13}{'Cycles calls':>14}"
+          f"{'denoisings':>12}")
+    print(f"{'fixed 8':<26}{base:>8.1f}{1.0:>13.2f}")
+    for target, cpu, calls, denoised in rows:
+        print(f"{target:<26.0%}{cpu:>8.1f}{cpu / base:>13.2f}{calls:>14.0f}{denoised:>12.0f}")
+    print(f"\n{'object <- group':<48}" + "".join(f"{t:>16.0%}" for t in targets)
+          + "   (samples, p95 reached)")
+    for key in found[targets[0]]:
+        print(f"{key[0] + ' <- ' + key[1]:<48}" + "".join(
+            f"{found[t][key].samples:>6} {found[t][key].p95 or 0.0:>8.1%} " for t in targets))
 
 
 if __name__ == "__main__":

@@ -145,9 +145,9 @@ class RawSpread:
 
     (``N`` samples in all, ``n`` texels).  The finishing keeps the raw bake's local
     mean (:func:`.denoise.preserve_mean`) and the 3D filter and the margin average, so
-    the finished map's mean has the raw mean's error (less where the finishing clips
-    rare bright paths: the pendant's poster in the lampshade room read 6.7 % at 8
-    samples where two seeds' means differed by 3.9 %; on the safe side).  With two
+    the finished map's mean has the raw mean's error (the pendant's poster in the
+    lampshade room read 6.7 % at 8 samples where two seeds' means differed by 3.9 %).
+    With two
     passes this estimate has as many degrees of freedom as the map has texels, where
     the contrast of the passes' means has one (its square is a χ²₁: a map at half the
     target read above it one time in twenty and was sent to more passes).

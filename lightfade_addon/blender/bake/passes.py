@@ -34,8 +34,9 @@ class Passes:
         self.spread = {}   # (map key, group) -> adaptive.RawSpread of its raw passes
 
     def add(self, obj_name, group, samples, image):
-        """A pass just baked into ``image``: denoised (when the settings say so), pending
-        its object's 3D filter."""
+        """A pass just baked into ``image``: denoised (when the settings say so; the raw
+        mean kept object by object in a shared map, :attr:`regions`), pending its
+        object's 3D filter."""
         n = image.size[0]
         px = np.empty(n * n * 4, dtype=np.float32)
         image.pixels.foreach_get(px)
@@ -48,8 +49,10 @@ class Passes:
             if obj_name not in self.colours:
                 self.colours[obj_name] = _denoise.island_colours(geo.island)
             denoised = _denoise.denoise(rgb, self.colours[obj_name])
+            cells = self.regions.get(obj_name)
             raw = _denoise.preserve_mean(luminance(_denoise.guard(denoised, rgb)), raw,
-                                         geo.island >= 0)
+                                         geo.island >= 0,
+                                         parts=list(cells.values()) if cells else None)
         self.pending.setdefault(obj_name, []).append((group, samples, raw.astype(np.float32)))
 
     def finish(self, obj_name):
