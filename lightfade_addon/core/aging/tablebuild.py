@@ -460,7 +460,8 @@ def build_tables(requests, settings=TableSettings(), progress=None, threads=None
                     pass
                 steps[key] = (1.0, f"{todo[key][0].name}: table ready", next(order))
             message = max(steps.values(), key=lambda s: s[2])[1]
-            if message and message != said:
-                say(sum(s[0] for s in steps.values()) / n, message)
-                said = message
+            now = (sum(s[0] for s in steps.values()) / n, message)
+            if message and now != said:           # the last, at 1, is always said
+                say(*now)
+                said = now
     return out
