@@ -210,3 +210,17 @@ def test_the_bake_keeps_each_atlas_objects_mean_on_its_own(blender, monkeypatch)
     (_, _, y), = p.pending["atlas"]
     for cell in cells.values():
         assert y[cell].mean() == pytest.approx(rgb[..., 0][cell].mean(), rel=0.005)
+
+
+def test_preserve_mean_raises_a_band_the_denoiser_emptied_at_most_fourfold(dn):
+    """A window whose denoised sum is a sliver of its raw one (the denoiser took nearly all
+    of a shadow's rare paths away) is raised at most MEAN_GAIN times: unbounded, a few dim
+    texels carried a whole window's light (bpy 4.2: a chair under a table read brighter
+    than one in the sun)."""
+    rng = np.random.default_rng(8)
+    n = 96
+    raw = 0.5 * (rng.random((n, n)) < 0.02)                    # mean 0.01
+    denoised = np.full((n, n), 0.0002)                         # 50x below it
+    out = dn.preserve_mean(denoised, raw, np.ones((n, n), bool), radius=32)
+    assert out.max() <= 4.0 * 0.0002 * (1 + 1e-5)
+    assert out.mean() == pytest.approx(4.0 * 0.0002, rel=1e-4)

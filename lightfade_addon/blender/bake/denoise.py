@@ -71,6 +71,10 @@ def guard(denoised, raw, radius=4):
     return np.clip(denoised, 0.0, max_filter(raw, radius))
 
 
+#: the most :func:`preserve_mean` raises (or 1/it lowers) a window's denoised sum
+MEAN_GAIN = 4.0
+
+
 def preserve_mean(denoised, raw, inside, radius=48, block=4, floor=1e-4, parts=None):
     """``denoised`` (H, W) rescaled so that its local mean matches the raw bake's.
 
@@ -82,11 +86,15 @@ def preserve_mean(denoised, raw, inside, radius=48, block=4, floor=1e-4, parts=N
     the denoised value; a texel belongs to the two bands around it with hat weights),
     so that a shadow is corrected by shadow texels only and its edges stay as sharp as
     the denoiser made them.  The sums are taken per ``block``² tile (a tile's texels
-    share the factor of their bands: a smooth field).  The factor is not clipped: where
-    light arrives by rare bright paths the denoiser takes the brightest for outliers, a
-    window's raw sum can be several times its denoised one, and a clip at 2 threw that
-    light away (the lampshade room's poster under a frosted-glass pendant, 128 samples:
-    −1.3 % with the clip at [0.5, 2], −0.0 % without, its raw mean +0.7 %; docs/bake.md).
+    share the factor of their bands: a smooth field).  The factor is held within
+    [1/:data:`MEAN_GAIN`, :data:`MEAN_GAIN`] = [0.25, 4]: where light arrives by rare
+    bright paths the denoiser takes the brightest for outliers and a window's raw sum can
+    be several times its denoised one; a clip at 2 threw that light away (the lampshade
+    room's poster under a frosted-glass pendant, 128 samples: −1.3 % with the clip at
+    [0.5, 2], −0.0 % without, its raw mean +0.7 %; docs/bake.md), while no clip at all
+    let a band the denoiser had all but emptied multiply its few texels without bound
+    (bpy 4.2's OIDN: a chair half under a table read 658 lux against 515 for one in the
+    sun; at 4 it reads below it, and the pendant's worst floor, rug or poster is 1.55 %).
     A map shared by several objects (an atlas of small ones, an instanced source's
     tiles) is corrected cell by cell (``parts``): a window never mixes two objects, whose
     denoiser losses differ (the same poster in its atlas beside the rug: −3.7 %).
@@ -136,6 +144,7 @@ def preserve_mean(denoised, raw, inside, radius=48, block=4, floor=1e-4, parts=N
     a, b = window_sums(raw), window_sums(den)
     ratio = np.ones_like(b)
     np.divide(a, b, out=ratio, where=b > 0)
+    ratio[b > 0] = np.clip(ratio[b > 0], 1.0 / MEAN_GAIN, MEAN_GAIN)
     factor = ratio[low_bin] * (1.0 - upper.ravel()) + ratio[high_bin] * upper.ravel()
     return den * np.where(keep, factor, 1.0).reshape(h, w).astype(np.float32)
 
