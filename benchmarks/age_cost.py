@@ -31,7 +31,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import bpy  # noqa: E402,F401  (first: it puts Blender's modules on the path)
 
-from benchmarks.live_room import build  # noqa: E402
+from benchmarks.live_room import build, default_bake  # noqa: E402
 
 
 def _timed(fn, profile=None):
@@ -83,17 +83,6 @@ def main(argv=None):
               f"wall, {cold[1] / default[1]:.3f}x process")
     if profile is not None:
         pstats.Stats(profile).sort_stats("cumulative").print_stats(args.profile)
-
-
-def default_bake(size):
-    """(wall s, process s, what) of the same room, new, baked at the scene's defaults."""
-    from lightfade_addon import api
-
-    scene = build(size)
-    wall, process = _timed(lambda: api.bake(scene))
-    what = (f"{scene.lightfade_bake.quality}, {scene.lightfade_bake.texels_per_metre:g} "
-            f"texels/m: {wall:.1f} s wall, {process:.1f} s process")
-    return wall, process, what
 
 
 if __name__ == "__main__":
