@@ -9,7 +9,6 @@ import bpy
 import numpy as np
 
 from ..core.colour.colorimetry import srgb_decode
-from ..core.colour.srgb8 import encode_srgb_f32
 
 #: Colour spaces whose stored values LightFade can read without Blender's colour
 #: management: sRGB (decoded here) and linear Rec.709 / data (taken as they are).
@@ -59,14 +58,6 @@ def decode_srgb_bytes(values):
         _SRGB_CODES.append(srgb_decode(np.arange(256) / 255.0).astype(np.float32))
     codes = np.rint(np.clip(values, 0.0, 1.0) * np.float32(255.0)).astype(np.uint8)
     return _SRGB_CODES[0][codes]
-
-
-def encode_srgb(linear):
-    """sRGB-encoded float32 of linear values in [0, 1] (IEC 61966-2-1, as
-    :func:`..core.colour.colorimetry.srgb_encode`, in float32 without a copy to float64):
-    what a byte image in an sRGB colour space is given, Blender rounding it to a code
-    (:mod:`..core.colour.srgb8` gives that code through a table)."""
-    return encode_srgb_f32(linear)
 
 
 def read_linear(image):

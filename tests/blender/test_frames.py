@@ -26,7 +26,7 @@ def switched(frames):
 def assert_holds(image, linear):
     """``image`` (8-bit sRGB) holds the linear colours ``linear`` (H, W, 4), each
     rounded to its nearest code."""
-    from lightfade_addon.blender.pixels import encode_srgb
+    from lightfade_addon.core.colour.srgb8 import encode_srgb_f32 as encode_srgb
 
     assert not image.is_float and image.colorspace_settings.name == "sRGB"
     codes = np.rint(rgba(image)[..., :3] * 255.0)

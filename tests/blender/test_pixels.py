@@ -64,7 +64,8 @@ def test_only_srgb_linear_rec709_and_data_byte_images_are_read_directly(blender)
 
 def test_srgb_codes_and_encoding_match_the_colour_science_functions():
     """The byte decoding table and the float32 encoder are IEC 61966-2-1 (colour-science)."""
-    from lightfade_addon.blender.pixels import decode_srgb_bytes, encode_srgb
+    from lightfade_addon.blender.pixels import decode_srgb_bytes
+    from lightfade_addon.core.colour.srgb8 import encode_srgb_f32 as encode_srgb
     from lightfade_addon.core.colour.colorimetry import srgb_decode, srgb_encode
 
     codes = np.arange(256, dtype=np.float32) / np.float32(255.0)
