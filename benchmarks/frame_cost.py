@@ -23,7 +23,9 @@ Printed:
   the same frame again, the first frame at a years value the images and bands have
   not met (20 % fewer years, then back), a time-lapse step (+0.1 year a frame); with
   the live material only (the handler taken out: what renders where LightFade is
-  absent); ratios against Reset and against the image textures; and the ΔE00 between
+  absent); the frame images at 0 years (the original colours through the same
+  images: what the images cost, apart from the lighter colours); ratios against Reset
+  and against the image textures; and the ΔE00 between
   the frame-image render and the live render (8 × 8-pixel means, same seed) beside the
   same figure for the live render at another seed (the noise floor);
 * **EEVEE** (``--eevee``) — wall seconds of the first and second render after Reset
@@ -161,6 +163,8 @@ def main(argv=None):
 
     cycles = lambda n: _render(scene, "CYCLES", args.samples, res, folder, n)   # noqa: E731
     cpu, px = {}, {}
+    api.set_years(scene, 0.0)                    # the original colours, in the frame images
+    cpu["zero"], _px = pair("zero", cycles)
     firsts = []
     for k, y in enumerate((Y * 0.8, Y)):          # each a years value the images have not met
         api.set_years(scene, y)
@@ -188,6 +192,7 @@ def main(argv=None):
           f"as image textures (Apply to Images):")
     rows = (("after Reset", "reset"),
             ("Apply to Images (image textures)", "applied"),
+            ("frame images at 0 years (the originals)", "zero"),
             ("frame images, same frame again", "frames"),
             ("frame images, first frame at new years", "first"),
             ("frame images, time-lapse step +0.1 y", "step"),
