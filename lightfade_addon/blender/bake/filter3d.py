@@ -21,8 +21,8 @@ on a real sofa and curtain and cost 3.4× the time; the normal ramp keeps the me
 texels that face nearly the same way.
 
 The bake (:meth:`.passes.Passes.finish`) smooths the denoised maps of an object, each
-guided by itself (the passes of one light group by their mean), once its last light
-group (or pass) of a round is baked: the maps share one neighbour search.  Averaging the *raw* bake instead (unbiased, many more samples) was measured
+guided by itself (each pass of an adaptive bake too), once its last light group (or
+pass) of a round is baked: the maps share one neighbour search.  Averaging the *raw* bake instead (unbiased, many more samples) was measured
 on a real sofa and curtain under annual daylight at 8 samples: a few texels of raw
 samples are still grain (p95 error at polygon centres 102 % and 89 %, against 94 % and
 54 % smoothing the denoised map; ``benchmarks/real_room_bake.py``).
