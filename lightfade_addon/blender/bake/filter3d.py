@@ -21,8 +21,8 @@ on a real sofa and curtain and cost 3.4× the time; the normal ramp keeps the me
 texels that face nearly the same way.
 
 The bake (:meth:`.passes.Passes.finish`) smooths the denoised maps of an object, each
-guided by itself (the passes of one light group by their mean), once its last light
-group (or pass) of a round is baked: the maps share one neighbour search.  Averaging the *raw* bake instead (unbiased, many more samples) was measured
+guided by itself (each pass of an adaptive bake too), once its last light group (or
+pass) of a round is baked: the maps share one neighbour search.  Averaging the *raw* bake instead (unbiased, many more samples) was measured
 on a real sofa and curtain under annual daylight at 8 samples: a few texels of raw
 samples are still grain (p95 error at polygon centres 102 % and 89 %, against 94 % and
 54 % smoothing the denoised map; ``benchmarks/real_room_bake.py``).
@@ -51,7 +51,7 @@ _THREADS = min(os.cpu_count() or 1, 4)
 
 def smooth_on_surface(raw, guide, position, normal, covered, texel,
                       radius_texels=RADIUS_TEXELS, neighbours=NEIGHBOURS, min_dot=MIN_DOT,
-                      range_stops=RANGE_STOPS, floor=1e-3, guide_of=None):
+                      range_stops=RANGE_STOPS, floor=1e-3):
     """``raw`` averaged over its 3D neighbours on the surface, edges from ``guide`` (the
     equation above).
 
@@ -63,7 +63,7 @@ def smooth_on_surface(raw, guide, position, normal, covered, texel,
     ----------
     raw : ndarray, shape (H, W) or (G, H, W)
         The values to average (the raw bake, or the denoised map); any unit.
-    guide : ndarray, shape like ``raw``, or (G', H, W) with ``guide_of``
+    guide : ndarray, shape like ``raw``
         The map denoised (where the edges are); same unit.
     position, normal : ndarray, shape (H, W, 3)
         World position (m) and unit normal of each covered texel.
@@ -74,22 +74,18 @@ def smooth_on_surface(raw, guide, position, normal, covered, texel,
     floor : float
         Guide values below ``floor`` × its 99th percentile count as that (dark texels
         of one shadow are alike).
-    guide_of : sequence of int, optional
-        For each map of ``raw``, the row of ``guide`` that gives its range weight: the
-        passes of one light group (:mod:`.adaptive`) share their mean's weights, computed
-        once.  Default: map ``j`` is guided by ``guide[j]``.
 
     Returns
     -------
     ndarray, shape like ``raw``, float32
-        Covered texels: the weighted mean; others: ``guide`` (``raw`` with ``guide_of``).
+        Covered texels: the weighted mean; others: ``guide``.
     """
     from scipy.spatial import cKDTree
 
     single = np.ndim(guide) == 2
     stack = (lambda a: np.asarray(a, dtype=np.float32)[None]) if single else (
         lambda a: np.asarray(a, dtype=np.float32))
-    out = stack(guide).copy() if guide_of is None else stack(raw).copy()
+    out = stack(guide).copy()
     cov = np.asarray(covered, bool)
     m = int(np.count_nonzero(cov))
     if m == 0:
@@ -98,8 +94,6 @@ def smooth_on_surface(raw, guide, position, normal, covered, texel,
     N = np.asarray(normal, dtype=np.float32)[cov]
     B = stack(raw)[:, cov].T                                   # (m, G)
     g = stack(guide)[:, cov].T.astype(np.float64)
-    users = [[j] for j in range(B.shape[1])] if guide_of is None else [
-        [j for j, row in enumerate(guide_of) if row == r] for r in range(g.shape[1])]
     top = np.percentile(g, 99, axis=0)
     level = np.log2(np.maximum(g, np.maximum(top * floor, 1e-30))).astype(np.float32)
     radius = float(radius_texels) * float(texel)
@@ -116,9 +110,7 @@ def smooth_on_surface(raw, guide, position, normal, covered, texel,
         near = _epanechnikov(dist.reshape(-1, k), radius)
         dot = np.einsum("ic,ijc->ij", N[rows], N[idx])
         near *= np.clip((dot - min_dot) / (1.0 - min_dot), 0.0, 1.0)
-        for r, maps in enumerate(users):
-            if not maps:
-                continue
+        for r in range(B.shape[1]):
             w = level[:, r][idx]                     # in place: the chunk's arrays are large
             w -= level[rows, r, None]
             np.square(w, out=w)
@@ -126,9 +118,7 @@ def smooth_on_surface(raw, guide, position, normal, covered, texel,
             np.exp(w, out=w)
             w *= near
             w[:, 0] = np.maximum(w[:, 0], 1e-6)      # the texel itself (distance 0) counts
-            total = w.sum(axis=1)
-            for j in maps:
-                result[rows, j] = np.einsum("ij,ij->i", w, B[:, j][idx]) / total
+            result[rows, r] = np.einsum("ij,ij->i", w, B[:, r][idx]) / w.sum(axis=1)
 
     # chunks side by side: the search and numpy's loops release the GIL, rows are disjoint
     with ThreadPoolExecutor(max_workers=_THREADS) as pool:

@@ -42,5 +42,5 @@ PRESETS = {
         "Final", "Passes of 4 samples per texel, denoised, until each map's noise is at the "
         "target (or the cap): the exposure the aging uses",
         samples=8, denoise=True, relative_time=0.18, noise_lit=0.0011, noise_shadow=0.044,
-        noise_target=0.15, mean_target=0.01),
+        noise_target=0.18, mean_target=0.01),
 }
