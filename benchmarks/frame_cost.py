@@ -23,8 +23,9 @@ Printed:
   the same frame again, the first frame at a years value the images and bands have
   not met (20 % fewer years, then back), a time-lapse step (+0.1 year a frame); with
   the live material only (the handler taken out: what renders where LightFade is
-  absent); the frame images at 0 years (the original colours through the same
-  images: what the images cost, apart from the lighter colours); ratios against Reset
+  absent); the frame images at :data:`ORIGINAL_YEARS` (the original colours, to the
+  8-bit code, through the same images: what the images cost, apart from the lighter
+  colours; at 0 years the live material renders, its aging gated off); ratios against Reset
   and against the image textures; and the ΔE00 between
   the frame-image render and the live render (8 × 8-pixel means, same seed) beside the
   same figure for the live render at another seed (the noise floor);
@@ -50,6 +51,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 import bpy  # noqa: E402  (first: it puts Blender's modules on the path)
 
 from benchmarks.live_room import block_dE, build  # noqa: E402
+
+#: Years at which the aged colours are the originals to the 8-bit code, but the frame
+#: images are written and rendered (at 0 the frame branch is off).
+ORIGINAL_YEARS = 1e-4
 
 
 def _render(scene, engine, samples, res, folder, name):
@@ -163,7 +168,7 @@ def main(argv=None):
 
     cycles = lambda n: _render(scene, "CYCLES", args.samples, res, folder, n)   # noqa: E731
     cpu, px = {}, {}
-    api.set_years(scene, 0.0)                    # the original colours, in the frame images
+    api.set_years(scene, ORIGINAL_YEARS)         # the original colours, in the frame images
     cpu["zero"], _px = pair("zero", cycles)
     firsts = []
     for k, y in enumerate((Y * 0.8, Y)):          # each a years value the images have not met
@@ -192,7 +197,7 @@ def main(argv=None):
           f"as image textures (Apply to Images):")
     rows = (("after Reset", "reset"),
             ("Apply to Images (image textures)", "applied"),
-            ("frame images at 0 years (the originals)", "zero"),
+            ("frame images, originals (1e-4 years)", "zero"),
             ("frame images, same frame again", "frames"),
             ("frame images, first frame at new years", "first"),
             ("frame images, time-lapse step +0.1 y", "step"),

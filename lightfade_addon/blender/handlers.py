@@ -70,5 +70,6 @@ def unregister():
     for handler_list, fn in reversed(HANDLERS):
         while fn in handler_list:
             handler_list.remove(fn)
+    frames.on_render_end()          # the aging groups and switches as a saved file has them
     runtime.clear()
     frames.forget()

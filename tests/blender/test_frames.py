@@ -262,6 +262,48 @@ def test_the_switch_is_never_saved_on(textured, tmp_path):
     assert tuple(image.size) == (1, 1)
 
 
+def _links(tree, node):
+    return sorted((link.from_node.name, link.from_socket.identifier, link.to_node.name,
+                   link.to_socket.identifier) for link in tree.links
+                  if node in (link.from_node, link.to_node))
+
+
+def test_the_render_reads_a_stub_of_the_aging_group_and_gives_it_back(textured, tmp_path):
+    """For the render the aging group node reads a stub (its sockets, no nodes: nothing
+    for Cycles to convert and fold), with every link kept; a file saved mid-render and
+    the end of the render have the group itself again, and the stub is gone."""
+    from lightfade_addon.blender.aging import frames
+    from lightfade_addon.blender.aging.copies import GROUP_NODE
+
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    _bake_and_age(years=10)
+    material = textured["material"].name
+    copy = the_copy(textured["material"])
+    tree = copy.node_tree
+    node = tree.nodes[GROUP_NODE]
+    group, links = node.node_tree, _links(tree, node)
+    group_name = group.name
+    sockets = [(i.identifier, i.in_out) for i in group.interface.items_tree]
+    groups = len(bpy.data.node_groups)
+    frames.on_render_pre(scene)
+    stub = node.node_tree
+    assert stub is not group
+    assert {n.type for n in stub.nodes} <= {"GROUP_INPUT", "GROUP_OUTPUT"}
+    assert [(i.identifier, i.in_out) for i in stub.interface.items_tree] == sockets
+    assert _links(tree, node) == links
+    path = tmp_path / "mid_render.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
+    again = tree.nodes[GROUP_NODE].node_tree                   # the render goes on
+    assert again != group and {n.type for n in again.nodes} <= {"GROUP_INPUT", "GROUP_OUTPUT"}
+    frames.on_render_end(scene)
+    assert node.node_tree == group and _links(tree, node) == links
+    assert len(bpy.data.node_groups) == groups
+    bpy.ops.wm.open_mainfile(filepath=str(path))
+    saved = the_copy(bpy.data.materials[material]).node_tree
+    assert saved.nodes[GROUP_NODE].node_tree.name == group_name
+
+
 def test_an_animation_writes_each_frames_years(textured, tmp_path):
     """Keyed years 0 → 40 rendered as an animation: each frame's images at its years."""
     from lightfade_addon import api

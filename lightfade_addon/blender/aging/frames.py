@@ -17,6 +17,12 @@ for the render (where the copy is aged: years above 0, or a texture with a histo
 so Cycles' constant folding removes the live branch from the compiled shader — its
 nodes, and the table, exposure maps and artist's colour textures it alone reads are
 not even loaded — and the frame costs an image texture where the original read one.
+Folding still has to convert and fold the aging group's nodes at every render (about
+160 in a copy, 20 ms of CPU per aged material per frame: 0.16 s of a 1.4 s frame of
+ten materials), so for the render the copy's aging group node reads a **stub** instead:
+a copy of its group with the same sockets and no nodes inside (:func:`_stub`), put back
+when the switch goes off (measured, ten 1k materials at 240 × 135: 1 spp 0.35 → 0.17 s
+of CPU, Reset 0.12; 16 spp 1.66 → 1.50, Reset 1.33).
 
 The factors are 1 only between ``render_pre`` and the end of the render
 (``render_complete``, ``render_cancel``; an animation keeps them on from frame to
@@ -243,6 +249,45 @@ def _switch(mix, on):
         mix.inputs["Fac"].default_value = value
 
 
+#: The aging group nodes reading a stub for the render in progress: node pointer ->
+#: (node, its own group tree).
+_STUBBED = {}
+
+
+def _stub(tree):
+    """A group with ``tree``'s sockets (their identifiers too, so that every link of the
+    node stays) and no nodes inside: what the render's folding would leave of it."""
+    stub = tree.copy()
+    stub.name = "LightFade Render Stub"
+    for node in list(stub.nodes):
+        if node.type not in {"GROUP_INPUT", "GROUP_OUTPUT"}:
+            stub.nodes.remove(node)
+    return stub
+
+
+def _hold_live(copy, on):
+    """The aging group nodes of ``copy`` read a stub (``on``) or their own group again."""
+    from .copies import GROUP_NODE, walk
+
+    for _tree, node in walk(copy.node_tree):
+        if node.type != "GROUP" or node.name != GROUP_NODE or node.node_tree is None:
+            continue
+        key = node.as_pointer()
+        if on and key not in _STUBBED:
+            _STUBBED[key] = (node, node.node_tree)
+            node.node_tree = _stub(node.node_tree)
+
+
+def _release_live():
+    """Every stubbed aging group node reads its own group again; the stubs are removed."""
+    for node, tree in _STUBBED.values():
+        stub = node.node_tree
+        node.node_tree = tree
+        if stub is not None and stub is not tree and stub.users == 0:
+            bpy.data.node_groups.remove(stub)
+    _STUBBED.clear()
+
+
 #: Frame switches turned on by the render in progress: material name -> on.
 _RENDERING = {}
 
@@ -268,11 +313,14 @@ def on_render_pre(scene, _more=None):
     for copy, mix in found:
         on = _shows(copy, years)
         _switch(mix, on)
+        if on:
+            _hold_live(copy, True)
         _RENDERING[copy.name] = on
 
 
 @persistent
 def on_render_end(_scene=None, _more=None):
+    _release_live()
     for _copy, mix in switches():
         _switch(mix, False)
     _RENDERING.clear()
@@ -280,6 +328,7 @@ def on_render_end(_scene=None, _more=None):
 
 @persistent
 def on_save_pre(_dummy=None, _more=None):
+    _release_live()
     for _copy, mix in switches():
         _switch(mix, False)
     for image in bpy.data.images:
@@ -293,6 +342,7 @@ def on_save_post(_dummy=None, _more=None):
     for copy, mix in switches():
         if _RENDERING.get(copy.name):
             _switch(mix, True)
+            _hold_live(copy, True)
 
 
 HANDLERS = (
@@ -307,6 +357,7 @@ HANDLERS = (
 def forget():
     """Forget what the frame images hold (file load, unregister)."""
     _WRITTEN.clear()
+    _STUBBED.clear()
 
 
 def remove_frame_images(copy):
