@@ -37,7 +37,6 @@ Printed:
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import sys
 import tempfile
@@ -98,14 +97,11 @@ def _eevee():
 
 
 def _camera(scene):
-    if scene.camera is not None:
-        return
-    cam = bpy.data.objects.new("LightFadeRoomCamera", bpy.data.cameras.new("LightFadeRoomCamera"))
-    scene.collection.objects.link(cam)
-    cam.location = (0.5, 2.0, 1.5)                     # tools/furnished_room.render_view's
-    cam.rotation_euler = (math.radians(78), 0.0, math.radians(175))
-    cam.data.lens = 18
-    scene.camera = cam
+    """The furnished room's own view where the file has no camera."""
+    from tools.furnished_room import place_camera
+
+    if scene.camera is None:
+        place_camera(scene)
 
 
 def image_rate(scene, years):

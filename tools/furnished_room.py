@@ -166,18 +166,33 @@ def add_view_light(scene, elevation=35.0, strength=4.0):
     world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.6
 
 
+#: The room's view from inside, looking at the sofa and the window: (location in metres,
+#: rotation in degrees (X, Y, Z), lens in mm).
+ROOM_VIEW = ((0.5, 2.0, 1.5), (78.0, 0.0, 175.0), 18.0)
+
+
+def place_camera(scene, name="LightFadeRoomCamera", location=ROOM_VIEW[0],
+                 rotation=ROOM_VIEW[1], lens=ROOM_VIEW[2]):
+    """The camera ``name`` (made if missing) at ``location`` (m), turned by ``rotation``
+    (degrees), made the scene's camera."""
+    import bpy
+
+    cam = bpy.data.objects.get(name)
+    if cam is None:
+        cam = bpy.data.objects.new(name, bpy.data.cameras.new(name))
+        scene.collection.objects.link(cam)
+    cam.location = location
+    cam.rotation_euler = tuple(math.radians(a) for a in rotation)
+    cam.data.lens = lens
+    scene.camera = cam
+    return cam
+
+
 def render_view(scene, path, samples=16, size=(480, 270)):
     """A quick Cycles still from inside the room looking at the sofa."""
     import bpy
 
-    cam = bpy.data.objects.get("LightFadeRoomCamera")
-    if cam is None:
-        cam = bpy.data.objects.new("LightFadeRoomCamera", bpy.data.cameras.new("LightFadeRoomCamera"))
-        scene.collection.objects.link(cam)
-        cam.location = (0.5, 2.0, 1.5)
-        cam.rotation_euler = (math.radians(78), 0.0, math.radians(175))
-        cam.data.lens = 18
-    scene.camera = cam
+    place_camera(scene)
     scene.render.engine = "CYCLES"
     scene.cycles.samples = samples
     scene.cycles.device = "CPU"

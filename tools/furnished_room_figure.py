@@ -14,17 +14,17 @@ out as a contact sheet: one row per view, one column per years value.
 from __future__ import annotations
 
 import argparse
-import math
 import pathlib
 import sys
 import tempfile
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
+from tools.furnished_room import ROOM_VIEW, place_camera  # noqa: E402
+
 #: name -> (location in metres, rotation in degrees (X, Y, Z), lens in mm, what it shows).
 VIEWS = {
-    "towards the window": ((0.5, 2.0, 1.5), (78.0, 0.0, 175.0), 18.0,
-                           "sofa, curtains, floor in the sun"),
+    "towards the window": (*ROOM_VIEW, "sofa, curtains, floor in the sun"),
     "from the window": ((-0.3, -1.3, 1.5), (80.0, 0.0, 8.0), 18.0,
                         "cabinets, stool, door, the floor's shade"),
 }
@@ -47,20 +47,6 @@ def aged_room(assets, blend=None):
     api.bake(scene)
     api.age_scene(scene, years=0.0)
     return scene
-
-
-def place_camera(scene, name, location, rotation, lens):
-    """A camera ``name`` at ``location`` (m) turned by ``rotation`` (degrees), made active."""
-    import bpy
-
-    cam = bpy.data.objects.get(name)
-    if cam is None:
-        cam = bpy.data.objects.new(name, bpy.data.cameras.new(name))
-        scene.collection.objects.link(cam)
-    cam.location = location
-    cam.rotation_euler = tuple(math.radians(a) for a in rotation)
-    cam.data.lens = lens
-    scene.camera = cam
 
 
 def render_years(scene, years, folder, size, samples, exposure):
