@@ -304,6 +304,26 @@ def test_the_render_reads_a_stub_of_the_aging_group_and_gives_it_back(textured, 
     assert saved.nodes[GROUP_NODE].node_tree.name == group_name
 
 
+def test_a_frame_back_at_zero_years_reads_the_aging_group_itself(textured):
+    """An animation whose years return to 0: that frame renders the live side, which
+    reads the aging group itself, not the previous frame's stub."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging import frames
+    from lightfade_addon.blender.aging.copies import GROUP_NODE
+
+    scene = bpy.context.scene
+    _camera_and_render_settings(scene)
+    _bake_and_age(years=10)
+    node = the_copy(textured["material"]).node_tree.nodes[GROUP_NODE]
+    group = node.node_tree
+    frames.on_render_pre(scene)
+    assert node.node_tree != group
+    api.set_years(scene, 0.0)
+    frames.on_render_pre(scene)                 # the next frame of the same render
+    assert switched(frames) == [0.0] and node.node_tree == group
+    frames.on_render_end(scene)
+
+
 def test_an_animation_writes_each_frames_years(textured, tmp_path):
     """Keyed years 0 → 40 rendered as an animation: each frame's images at its years."""
     from lightfade_addon import api

@@ -266,7 +266,8 @@ def _stub(tree):
 
 
 def _hold_live(copy, on):
-    """The aging group nodes of ``copy`` read a stub (``on``) or their own group again."""
+    """The aging group nodes of ``copy`` read a stub (``on``) or their own group again
+    (a frame of an animation whose years went back to 0 renders the live side)."""
     from .copies import GROUP_NODE, walk
 
     for _tree, node in walk(copy.node_tree):
@@ -276,16 +277,23 @@ def _hold_live(copy, on):
         if on and key not in _STUBBED:
             _STUBBED[key] = (node, node.node_tree)
             node.node_tree = _stub(node.node_tree)
+        elif not on and key in _STUBBED:
+            _put_back(key)
+
+
+def _put_back(key):
+    """The stubbed node ``key`` reads its own group again; its stub is removed."""
+    node, tree = _STUBBED.pop(key)
+    stub = node.node_tree
+    node.node_tree = tree
+    if stub is not None and stub.users == 0:
+        bpy.data.node_groups.remove(stub)
 
 
 def _release_live():
-    """Every stubbed aging group node reads its own group again; the stubs are removed."""
-    for node, tree in _STUBBED.values():
-        stub = node.node_tree
-        node.node_tree = tree
-        if stub is not None and stub is not tree and stub.users == 0:
-            bpy.data.node_groups.remove(stub)
-    _STUBBED.clear()
+    """Every stubbed aging group node reads its own group again."""
+    for key in list(_STUBBED):
+        _put_back(key)
 
 
 #: Frame switches turned on by the render in progress: material name -> on.
@@ -313,8 +321,7 @@ def on_render_pre(scene, _more=None):
     for copy, mix in found:
         on = _shows(copy, years)
         _switch(mix, on)
-        if on:
-            _hold_live(copy, True)
+        _hold_live(copy, on)
         _RENDERING[copy.name] = on
 
 
