@@ -154,6 +154,15 @@ class LIGHTFADE_PG_scene(PropertyGroup):
     aged_rays: EnumProperty(name="Aged Colour On", items=AGED_RAYS_ITEMS, default="ALL",
                             description="Which rays see the aged colour (taken at Age); the "
                             "others see the original colour and skip the aging group")
+    frame_detail: EnumProperty(
+        name="Frame Detail", default="CAMERA",
+        items=(("CAMERA", "From the Camera", "Cycles renders read each aged texture at the detail "
+                "the camera can resolve (as a mipmap): fast frames where textures are small on "
+                "screen"),
+               ("FULL", "Full", "Cycles renders read each aged texture at its full resolution "
+                "(objects seen close up in mirrors or through lenses)")),
+        description="How much of each aged texture a Cycles render writes for its frame; "
+        "Apply always writes the full images")
     bake_margin: IntProperty(
         name="Margin",
         description="Pixels the baked exposure is extended past UV island borders (avoids seams)",

@@ -66,8 +66,8 @@ def test_a_render_reads_the_frame_images_written_for_it(textured, tmp_path, monk
 
     real = frames.write_frame
 
-    def green(scene, copy, years):                  # what the render reads: the image
-        image = real(scene, copy, years)
+    def green(scene, copy, years, *more):           # what the render reads: the image
+        image = real(scene, copy, years, *more)
         px = rgba(image)
         px[..., :3] = (0.0, 1.0, 0.0)
         image.pixels.foreach_set(px.ravel())
@@ -336,9 +336,9 @@ def test_an_animation_writes_each_frames_years(textured, tmp_path):
     seen = []
     real = frames.write_frame
 
-    def spy(scene, copy, years):
+    def spy(scene, copy, years, *more):
         seen.append(years)
-        return real(scene, copy, years)
+        return real(scene, copy, years, *more)
 
     frames.write_frame = spy
     try:

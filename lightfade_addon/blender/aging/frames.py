@@ -40,7 +40,7 @@ import bpy
 import numpy as np
 from bpy.app.handlers import persistent
 
-from . import runtime
+from . import detail, runtime
 from .instances import apply_problem
 from ..exposure import exposure_shape
 from .copies import _colour_socket, _duplicate, copies_of
@@ -146,6 +146,7 @@ class Held:
     years: float
     size: tuple
     state: tuple | None
+    level: int = 0
 
 
 #: How much coarser than its exposure maps a texture may be and still render from frame
@@ -172,16 +173,19 @@ def renders_frames(copy):
     return MAX_COARSER * height >= shape[0] and MAX_COARSER * width >= shape[1]
 
 
-def write_frame(scene, copy, years):
-    """Write ``copy``'s aged colour at ``years`` into its frame image (at the texture's
-    resolution), unless it holds exactly that already; returns the image (None
-    without a frame branch).
+def write_frame(scene, copy, years, view=None, depsgraph=None):
+    """Write ``copy``'s aged colour at ``years`` into its frame image, unless it holds
+    exactly that already; returns the image (None without a frame branch).
 
-    "Already" is known without reading the colour where its image is as it was loaded,
-    saved or generated (:func:`.runtime.colour_state`); else the colour is read and its
-    CRC compared (:func:`.runtime.twin_key`): tens of ms per Mtexel. The aged colour is
-    encoded to the image's 8-bit sRGB codes block by block as it is evaluated
-    (:func:`..core.colour.srgb8.srgb_code_floats`: a table, no power per texel)."""
+    The image is the texture's resolution, or coarser by the level of detail the camera
+    ``view`` can resolve (:func:`.detail.camera_view`; None: full resolution): the
+    colour averaged in blocks (:func:`.detail.block_mean`, held while the colour is the
+    same), then aged. "Already" is known without reading the colour where its image is
+    as it was loaded, saved or generated (:func:`.runtime.colour_state`); else the
+    colour is read and its CRC compared (:func:`.runtime.twin_key`): tens of ms per
+    Mtexel. The aged colour is encoded to the image's 8-bit sRGB codes block by block
+    as it is evaluated (:func:`..core.colour.srgb8.srgb_code_floats`: a table, no power
+    per texel)."""
     from .apply import ensure_albedo
 
     image = frame_image(copy)
@@ -190,13 +194,16 @@ def write_frame(scene, copy, years):
     years = float(years)
     if copy.lightfade.path == "BAKED":
         ensure_albedo(scene, copy)
+    L = frame_level(copy, view, depsgraph, image)
     state = runtime.colour_state(copy)
     held = _WRITTEN.get(image.as_pointer())
-    same = held is not None and tuple(image.size) == held.size
+    same = held is not None and tuple(image.size) == held.size and held.level == L
     if same and state is not None and held.state == state and held.years == years \
             and held.key[:-2] == runtime.inputs_key(scene, copy):
         return image
     colour, key = runtime.held_colour(scene, copy, state)
+    if L:
+        colour, key = _coarse(image, colour, key, L)
     if same and held.key == key and held.years == years:
         held.state = state
         return image
@@ -209,19 +216,61 @@ def write_frame(scene, copy, years):
     image.pixels.foreach_set(codes.reshape(-1))
     image.update()
     image["lightfade_years"] = years
-    _WRITTEN[image.as_pointer()] = Held(key, years, (W, H), state)
+    _WRITTEN[image.as_pointer()] = Held(key, years, (W, H), state, L)
     return image
 
 
-def write_frames(scene, years=None):
+def frame_level(copy, view, depsgraph, image=None):
+    """The level of detail (:mod:`.detail`) of ``copy``'s frame image under the camera
+    ``view``: 0 (the texture's resolution) without a view, for a flat colour, or where
+    the texture is read texel by texel (Closest interpolation: pixel art)."""
+    props = copy.lightfade
+    image = frame_image(copy) if image is None else image
+    if view is None or props.path == "FLAT" or props.albedo is None or image is None:
+        return 0
+    node = frame_nodes(copy)[0][1]
+    if node.interpolation == "Closest":
+        return 0
+    try:
+        return detail.object_level(props.aged_object, depsgraph, props.uv_map,
+                                   tuple(props.albedo.size), view)
+    except (RuntimeError, ValueError, KeyError):          # unknown: the whole texture
+        return 0
+
+
+#: Block means of the colours of frame images written coarser than their texture:
+#: image pointer -> (the colour's key, level, block means, their key).
+_COARSE = {}
+
+
+def _coarse(image, colour, key, L):
+    """``(block means at level L, their twin key)`` of ``colour`` (:func:`.detail.
+    block_mean`; held per image while the colour and level are the same)."""
+    held = _COARSE.get(image.as_pointer())
+    if held is not None and held[0] == key and held[1] == L:
+        return held[2], held[3]
+    small = detail.block_mean(colour, L)
+    small.flags.writeable = False
+    small_key = (*key[:-2], small.shape, (key[-1], L))
+    _COARSE[image.as_pointer()] = (key, L, small, small_key)
+    return small, small_key
+
+
+def write_frames(scene, years=None, camera=True):
     """Every aged copy of ``scene`` with a frame branch gets its frame image at
-    ``years`` (default: the frame's); returns {copy name: image}."""
+    ``years`` (default: the frame's), at the detail the scene's camera resolves
+    (``camera`` and the scene's *Frame Detail* ``CAMERA``; else whole); returns
+    {copy name: image}."""
     from .apply import aged_copies
 
     years = frame_years(scene) if years is None else float(years)
+    view = depsgraph = None
+    if camera and scene.lightfade.frame_detail == "CAMERA":
+        depsgraph = bpy.context.evaluated_depsgraph_get()
+        view = detail.camera_view(scene, depsgraph)
     out = {}
     for copy in aged_copies(scene):
-        image = write_frame(scene, copy, years)
+        image = write_frame(scene, copy, years, view, depsgraph)
         if image is not None:
             out[copy.name] = image
     return out
@@ -365,12 +414,14 @@ def forget():
     """Forget what the frame images hold (file load, unregister)."""
     _WRITTEN.clear()
     _STUBBED.clear()
+    _COARSE.clear()
 
 
 def remove_frame_images(copy):
     for _tree, node in frame_nodes(copy):
         if node.image is not None:
             _WRITTEN.pop(node.image.as_pointer(), None)
+            _COARSE.pop(node.image.as_pointer(), None)
             bpy.data.images.remove(node.image)
             node.image = None
 

@@ -30,6 +30,7 @@ class VIEW3D_PT_lightfade_aging(LightFadeSidebarMixin, bpy.types.Panel):
             row.prop(scene.lightfade, "years")
         row.operator("lightfade.key_years", text="", icon="KEY_HLT")
         layout.prop(scene.lightfade, "aged_rays")
+        layout.prop(scene.lightfade, "frame_detail")
         row = layout.row(align=True)
         row.operator("lightfade.age", icon="TIME")
         row.operator("lightfade.reset", icon="LOOP_BACK")
