@@ -6,7 +6,9 @@ is installed, a Cycles render does not need it: before each frame (``render_pre`
 numpy twin writes each aged copy's colour at the frame's years into the copy's
 **frame image**, 8-bit sRGB as the artist's textures (:func:`.runtime.aged_rgb`: tens
 of ms per Mtexel once the years range is known; nothing when the image holds that
-colour already), and the copy shows a BSDF fed by that image instead of the live one.
+colour already), at the detail the camera resolves (:mod:`.detail`: a texture seen
+minified is written as a coarser mipmap level would hold it), and the copy shows a BSDF
+fed by that image instead of the live one.
 
 Each copy's tree gets, beside the live BSDF (and its gate), a **frame branch**: a
 duplicate of the colour BSDF whose colour is an Image Texture of the frame image in
