@@ -258,6 +258,21 @@ def _coarse(image, colour, key, L):
     return small, small_key
 
 
+def _depsgraph(scene):
+    """The scene's evaluated depsgraph: brought up to date on the main thread (a
+    script's or ``blender -b``'s render); in an interactive render's own thread, as the
+    interface last evaluated it (evaluating there would race the interface); None where
+    there is none (then the frame images are written whole)."""
+    import threading
+
+    try:
+        if threading.current_thread() is threading.main_thread():
+            return bpy.context.evaluated_depsgraph_get()
+        return scene.view_layers[0].depsgraph
+    except (AttributeError, IndexError, RuntimeError):
+        return None
+
+
 def write_frames(scene, years=None, camera=True):
     """Every aged copy of ``scene`` with a frame branch gets its frame image at
     ``years`` (default: the frame's), at the detail the scene's camera resolves
@@ -268,8 +283,8 @@ def write_frames(scene, years=None, camera=True):
     years = frame_years(scene) if years is None else float(years)
     view = depsgraph = None
     if camera and scene.lightfade.frame_detail == "CAMERA":
-        depsgraph = bpy.context.evaluated_depsgraph_get()
-        view = detail.camera_view(scene, depsgraph)
+        depsgraph = _depsgraph(scene)
+        view = None if depsgraph is None else detail.camera_view(scene, depsgraph)
     out = {}
     for copy in aged_copies(scene):
         image = write_frame(scene, copy, years, view, depsgraph)
