@@ -22,7 +22,7 @@ not even loaded — and the frame costs an image texture where the original read
 Folding still has to convert and fold the aging group's nodes at every render (about
 160 in a copy, 20 ms of CPU per aged material per frame: 0.16 s of a 1.4 s frame of
 ten materials), so for the render the copy's aging group node reads a **stub** instead:
-a copy of its group with the same sockets and no nodes inside (:func:`_stub`), put back
+a copy of its group with the same sockets and no nodes inside (:mod:`.stub`), put back
 when the switch goes off (measured, ten 1k materials at 240 × 135: 1 spp 0.35 → 0.17 s
 of CPU, Reset 0.12; 16 spp 1.66 → 1.50, Reset 1.33).
 
@@ -42,7 +42,7 @@ import bpy
 import numpy as np
 from bpy.app.handlers import persistent
 
-from . import detail, runtime
+from . import detail, runtime, stub
 from .instances import apply_problem
 from ..exposure import exposure_shape
 from .copies import _colour_socket, _duplicate, copies_of
@@ -315,53 +315,6 @@ def _switch(mix, on):
         mix.inputs["Fac"].default_value = value
 
 
-#: The aging group nodes reading a stub for the render in progress: node pointer ->
-#: (node, its own group tree).
-_STUBBED = {}
-
-
-def _stub(tree):
-    """A group with ``tree``'s sockets (their identifiers too, so that every link of the
-    node stays) and no nodes inside: what the render's folding would leave of it."""
-    stub = tree.copy()
-    stub.name = "LightFade Render Stub"
-    for node in list(stub.nodes):
-        if node.type not in {"GROUP_INPUT", "GROUP_OUTPUT"}:
-            stub.nodes.remove(node)
-    return stub
-
-
-def _hold_live(copy, on):
-    """The aging group nodes of ``copy`` read a stub (``on``) or their own group again
-    (a frame of an animation whose years went back to 0 renders the live side)."""
-    from .copies import GROUP_NODE, walk
-
-    for _tree, node in walk(copy.node_tree):
-        if node.type != "GROUP" or node.name != GROUP_NODE or node.node_tree is None:
-            continue
-        key = node.as_pointer()
-        if on and key not in _STUBBED:
-            _STUBBED[key] = (node, node.node_tree)
-            node.node_tree = _stub(node.node_tree)
-        elif not on and key in _STUBBED:
-            _put_back(key)
-
-
-def _put_back(key):
-    """The stubbed node ``key`` reads its own group again; its stub is removed."""
-    node, tree = _STUBBED.pop(key)
-    stub = node.node_tree
-    node.node_tree = tree
-    if stub is not None and stub.users == 0:
-        bpy.data.node_groups.remove(stub)
-
-
-def _release_live():
-    """Every stubbed aging group node reads its own group again."""
-    for key in list(_STUBBED):
-        _put_back(key)
-
-
 #: Frame switches turned on by the render in progress: material name -> on.
 _RENDERING = {}
 
@@ -387,13 +340,13 @@ def on_render_pre(scene, _more=None):
     for copy, mix in found:
         on = _shows(copy, years)
         _switch(mix, on)
-        _hold_live(copy, on)
+        stub.hold(copy, on)
         _RENDERING[copy.name] = on
 
 
 @persistent
 def on_render_end(_scene=None, _more=None):
-    _release_live()
+    stub.release_all()
     for _copy, mix in switches():
         _switch(mix, False)
     _RENDERING.clear()
@@ -401,7 +354,7 @@ def on_render_end(_scene=None, _more=None):
 
 @persistent
 def on_save_pre(_dummy=None, _more=None):
-    _release_live()
+    stub.release_all()
     for _copy, mix in switches():
         _switch(mix, False)
     for image in bpy.data.images:
@@ -415,7 +368,7 @@ def on_save_post(_dummy=None, _more=None):
     for copy, mix in switches():
         if _RENDERING.get(copy.name):
             _switch(mix, True)
-            _hold_live(copy, True)
+            stub.hold(copy, True)
 
 
 HANDLERS = (
@@ -430,7 +383,7 @@ HANDLERS = (
 def forget():
     """Forget what the frame images hold (file load, unregister)."""
     _WRITTEN.clear()
-    _STUBBED.clear()
+    stub.forget()
     _COARSE.clear()
 
 
