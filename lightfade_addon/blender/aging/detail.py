@@ -2,7 +2,7 @@
 
 A frame image (:mod:`.frames`) holds a copy's aged colour for one render, at its
 texture's resolution. Where the camera sees the texture minified — a room's 1k textures
-at 240 × 135, where one render pixel covers hundreds of texels — the render averages
+at 240 × 135, where one render pixel spans four to seven texels across — the render averages
 what its few samples per pixel happen to read, and writing every texel costs the frame
 more than the render itself (ten 1k materials at a new years value: 1.1 s of CPU for
 the aging of 10.5 Mtexel against a 1.35 s frame). So, as a renderer chooses a mipmap
@@ -10,7 +10,10 @@ level, each frame image is written at the coarsest level ``L`` (blocks of ``2^L 
 texels averaged in linear colour, then aged: :func:`block_mean`) at which every render
 pixel that sees the object still spans at least :data:`MIN_TEXELS` frame texels in
 every direction (:func:`level`); the exact aged colour at full resolution is what Apply
-writes.
+writes. Two, not a mipmap's usual one: aging a block's mean colour is not the mean of
+its aged texels where the block mixes very different colours (white dots on a dyed
+ground), and at one texel a pixel that showed (up to 1.4 ΔE00 of 8 × 8-pixel means
+against the live render at 128 spp; at two, 0.56, as two seeds of the live render).
 
 The camera's footprint, per object (:func:`min_texels_per_pixel`), is found without
 rendering: for the nearest point of each triangle inside the camera's frustum (a corner
