@@ -11,6 +11,7 @@ from tests.blender.test_material_aging import (
     _camera_and_render_settings,
     _render,
     lab,
+    smooth_albedo,
     the_copy,
 )
 from lightfade_addon.core.colour.colorimetry import delta_E_2000
@@ -111,23 +112,7 @@ def test_block_means_are_linear_means():
 @pytest.fixture
 def fine(floor_scene):
     """The floor scene with a 256² smooth albedo read with Linear interpolation."""
-    albedo = bpy.data.images.new("Fine", 256, 256, alpha=True, float_buffer=True)
-    albedo.colorspace_settings.name = "Linear Rec.709"
-    y, x = np.mgrid[0:256, 0:256] / 256.0
-    px = np.ones((256, 256, 4), dtype=np.float32)
-    px[..., 0] = 0.45 + 0.4 * np.sin(3 * x + 1)
-    px[..., 1] = 0.35 + 0.3 * np.cos(4 * y)
-    px[..., 2] = 0.1 + 0.8 * x * y
-    albedo.pixels.foreach_set(px.ravel())
-    albedo.pack()
-    tree = floor_scene["material"].node_tree
-    node = next(n for n in tree.nodes if n.type == "TEX_IMAGE")
-    node.image = albedo
-    node.interpolation = "Linear"
-    floor_scene["material"].lightfade.recipe = "PRINTED_PAPER"
-    floor_scene["material"].lightfade.blue_wool = 2
-    floor_scene["sun"].data.energy = 30.0
-    return floor_scene
+    return smooth_albedo(floor_scene, "Fine", 256, "Linear")
 
 
 def test_a_far_camera_renders_a_coarser_frame_image_that_agrees(fine, tmp_path):

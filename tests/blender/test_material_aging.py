@@ -49,30 +49,37 @@ def lab(rgb):
     return XYZ_to_Lab(linear_srgb_to_XYZ(np.asarray(rgb, float).reshape(-1, 3)))
 
 
-@pytest.fixture
-def textured(floor_scene):
-    """The floor scene with a 32² albedo of many smoothly varying colours (a float
-    image), lit by a strong sun; exposure not baked yet."""
-    albedo = bpy.data.images.new("Noise", 32, 32, alpha=True, float_buffer=True)
+def smooth_albedo(scene, name, side, interpolation):
+    """Give ``scene`` (:func:`floor_scene`'s) a ``side``² float albedo ``name`` of many
+    smoothly varying colours, read with ``interpolation``, Printed Paper (Blue Wool 2)
+    and a strong sun; returns ``scene``."""
+    albedo = bpy.data.images.new(name, side, side, alpha=True, float_buffer=True)
     albedo.colorspace_settings.name = "Linear Rec.709"
-    y, x = np.mgrid[0:32, 0:32] / 32.0
-    px = np.ones((32, 32, 4), dtype=np.float32)
+    y, x = np.mgrid[0:side, 0:side] / float(side)
+    px = np.ones((side, side, 4), dtype=np.float32)
     px[..., 0] = 0.45 + 0.4 * np.sin(3 * x + 1)
     px[..., 1] = 0.35 + 0.3 * np.cos(4 * y)
     px[..., 2] = 0.1 + 0.8 * x * y
     albedo.pixels.foreach_set(px.ravel())
     albedo.pack()
-    tree = floor_scene["material"].node_tree
+    tree = scene["material"].node_tree
     node = next(n for n in tree.nodes if n.type == "TEX_IMAGE")
     node.image = albedo
+    node.interpolation = interpolation
+    scene["material"].lightfade.recipe = "PRINTED_PAPER"
+    scene["material"].lightfade.blue_wool = 2
+    scene["sun"].data.energy = 30.0
+    return scene
+
+
+@pytest.fixture
+def textured(floor_scene):
+    """The floor scene with a 32² albedo of many smoothly varying colours (a float
+    image), lit by a strong sun; exposure not baked yet."""
     # Cycles' bake samples a hair (~0.003 texel) off the texel centres: Closest keeps
     # the original colour exact there, and a smooth texture keeps the keys' blend there
     # tiny, so what is compared is the two evaluators
-    node.interpolation = "Closest"
-    floor_scene["material"].lightfade.recipe = "PRINTED_PAPER"
-    floor_scene["material"].lightfade.blue_wool = 2
-    floor_scene["sun"].data.energy = 30.0
-    return floor_scene
+    return smooth_albedo(floor_scene, "Noise", 32, "Closest")
 
 
 def _bake_and_age(years=5):
