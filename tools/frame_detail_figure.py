@@ -60,8 +60,7 @@ def renders(scene, samples, folder):
         if live:
             return _live_only(lambda: _render(scene, "CYCLES", samples, RES, folder, name))[2], 0.0
         px = _render(scene, "CYCLES", samples, RES, folder, name)[2]
-        images = [frames.frame_image(c) for c, _m in frames.switches(scene)]
-        return px, sum(i.size[0] * i.size[1] for i in images if i is not None) / 1e6
+        return px, sum(frames.texels_aged(c) for c, _m in frames.switches(scene)) / 1e6
 
     out = {"live": one("live", live=True), "live, seed 1": one("live1", seed=1, live=True),
            "full": one("full", "FULL"), "camera": one("camera", "CAMERA")}

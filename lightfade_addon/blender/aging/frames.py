@@ -43,6 +43,7 @@ import numpy as np
 from bpy.app.handlers import persistent
 
 from . import detail, runtime, stub
+from .mosaic import Pyramid
 from .instances import apply_problem
 from ..exposure import exposure_shape
 from .copies import _colour_socket, _duplicate, copies_of
@@ -139,8 +140,10 @@ _WRITTEN = {}
 @dataclass
 class Held:
     """What a frame image was written from: the twin's key (:func:`.runtime.twin_key`:
-    table, signature, exposure, size, the colour's CRC), the years, the image's size
-    and the colour's :func:`.runtime.colour_state` (None: read the colour to compare;
+    table, signature, exposure, size, the colour's CRC), the years, the image's size,
+    its tiles' levels (:attr:`.mosaic.Mosaic.key`; None: whole), the texels (or tiles'
+    samples) aged, and the colour's :func:`.runtime.colour_state` (None: read the colour
+    to compare;
     where it is known, :func:`.runtime.held_colour` holds the colour itself, so the
     next years value ages it without reading the texture again)."""
 
@@ -148,7 +151,8 @@ class Held:
     years: float
     size: tuple
     state: tuple | None
-    level: int = 0
+    tiles: tuple | None = None
+    texels: int = 0
 
 
 #: How much coarser than its exposure maps a texture may be and still render from frame
@@ -179,15 +183,13 @@ def write_frame(scene, copy, years, view=None, depsgraph=None):
     """Write ``copy``'s aged colour at ``years`` into its frame image, unless it holds
     exactly that already; returns the image (None without a frame branch).
 
-    The image is the texture's resolution, or coarser by the level of detail the camera
-    ``view`` can resolve (:func:`.detail.camera_view`; None: full resolution): the
-    colour averaged in blocks (:func:`.detail.block_mean`, held while the colour is the
-    same), then aged. "Already" is known without reading the colour where its image is
-    as it was loaded, saved or generated (:func:`.runtime.colour_state`); else the
-    colour is read and its CRC compared (:func:`.runtime.twin_key`): tens of ms per
-    Mtexel. The aged colour is encoded to the image's 8-bit sRGB codes block by block
-    as it is evaluated (:func:`..core.colour.srgb8.srgb_code_floats`: a table, no power
-    per texel)."""
+    The image is the texture's resolution, or, tile by tile, coarser by the level of
+    detail the camera ``view`` resolves there (:func:`.detail.camera_view`, :mod:`.mosaic`;
+    None: full resolution): the colour's block means (held while it is the same), aged.
+    "Already" is known without reading the colour where its image is as it was loaded,
+    saved or generated (:func:`.runtime.colour_state`); else the colour is read and its
+    CRC compared (:func:`.runtime.twin_key`). The aged colour is encoded to the image's
+    8-bit sRGB codes as it is evaluated (:func:`..core.colour.srgb8.srgb_code_floats`)."""
     from .apply import ensure_albedo
 
     image = frame_image(copy)
@@ -196,66 +198,61 @@ def write_frame(scene, copy, years, view=None, depsgraph=None):
     years = float(years)
     if copy.lightfade.path == "BAKED":
         ensure_albedo(scene, copy)
-    L = frame_level(copy, view, depsgraph, image)
+    mosaic = frame_mosaic(copy, view, depsgraph)
+    tiles = None if mosaic is None else mosaic.key
     state = runtime.colour_state(copy)
     held = _WRITTEN.get(image.as_pointer())
-    same = held is not None and tuple(image.size) == held.size and held.level == L
+    same = held is not None and tuple(image.size) == held.size and held.tiles == tiles
     if same and state is not None and held.state == state and held.years == years \
             and held.key[:-2] == runtime.inputs_key(scene, copy):
         return image
     colour, key = runtime.held_colour(scene, copy, state)
-    if L:
-        colour, key = _coarse(image, colour, key, L)
+    if mosaic is not None:
+        layout, colour, key = _pyramid(image, colour, key).samples(mosaic)
     if same and held.key == key and held.years == years:
         held.state = state
         return image
-    H, W = colour.shape[:2]
     codes = np.empty_like(colour)
     codes[..., 3] = colour[..., 3]
-    runtime.aged_rgb(scene, copy, colour, years, key=key, out=codes, codes=True)
+    runtime.aged_rgb(scene, copy, colour, years, key=key, out=codes, codes=True,
+                     layout=None if mosaic is None else layout)
+    if mosaic is not None:
+        codes = layout.image(codes.reshape(-1, 4))
+    H, W = codes.shape[:2]
     if tuple(image.size) != (W, H):
         image.generated_width, image.generated_height = W, H
     image.pixels.foreach_set(codes.reshape(-1))
     image.update()
     image["lightfade_years"] = years
-    _WRITTEN[image.as_pointer()] = Held(key, years, (W, H), state, L)
+    _WRITTEN[image.as_pointer()] = Held(key, years, (W, H), state, tiles, colour.size // 4)
     return image
 
 
-def frame_level(copy, view, depsgraph, image=None):
-    """The level of detail (:mod:`.detail`) of ``copy``'s frame image under the camera
-    ``view``: 0 (the texture's resolution) without a view, for a flat colour, or where
-    the texture is read texel by texel (Closest interpolation: pixel art)."""
-    props = copy.lightfade
-    image = frame_image(copy) if image is None else image
-    if view is None or props.path == "FLAT" or props.albedo is None or image is None:
-        return 0
-    node = frame_nodes(copy)[0][1]
-    if node.interpolation == "Closest":
-        return 0
-    try:
-        return detail.object_level(props.aged_object, depsgraph, props.uv_map,
-                                   tuple(props.albedo.size), view)
-    except (RuntimeError, ValueError, KeyError):          # unknown: the whole texture
-        return 0
+def texels_aged(copy):
+    """Texels (or samples of tiles) the last write of ``copy``'s frame image aged."""
+    image = frame_image(copy)
+    held = None if image is None else _WRITTEN.get(image.as_pointer())
+    return 0 if held is None else held.texels
 
 
-#: Block means of the colours of frame images written coarser than their texture:
-#: image pointer -> (the colour's key, level, block means, their key).
+def frame_mosaic(copy, view, depsgraph):
+    """The :class:`.mosaic.Mosaic` of ``copy``'s frame image under the camera ``view``
+    (:func:`.detail.copy_mosaic`); None (whole) without a frame branch."""
+    nodes = frame_nodes(copy)
+    return detail.copy_mosaic(copy, nodes[0][1], view, depsgraph) if nodes else None
+
+
+#: The colours of frame images written coarser than their texture: image pointer ->
+#: :class:`.mosaic.Pyramid`.
 _COARSE = {}
 
 
-def _coarse(image, colour, key, L):
-    """``(block means at level L, their twin key)`` of ``colour`` (:func:`.detail.
-    block_mean`; held per image while the colour and level are the same)."""
+def _pyramid(image, colour, key):
+    """The :class:`.mosaic.Pyramid` of ``colour`` (twin key ``key``) for ``image``."""
     held = _COARSE.get(image.as_pointer())
-    if held is not None and held[0] == key and held[1] == L:
-        return held[2], held[3]
-    small = detail.block_mean(colour, L)
-    small.flags.writeable = False
-    small_key = (*key[:-2], small.shape, (key[-1], L))
-    _COARSE[image.as_pointer()] = (key, L, small, small_key)
-    return small, small_key
+    if held is None or held.key != key:
+        held = _COARSE[image.as_pointer()] = Pyramid(colour, key)
+    return held
 
 
 def _depsgraph(scene):

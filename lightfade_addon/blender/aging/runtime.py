@@ -303,7 +303,8 @@ def twin_key(scene, copy, rgba, lane=None):
     return (*inputs_key(scene, copy, lane), flat.shape, zlib.crc32(flat.data))
 
 
-def aged_rgb(scene, copy, rgba, years, lane=None, key=None, out=None, codes=False):
+def aged_rgb(scene, copy, rgba, years, lane=None, key=None, out=None, codes=False,
+             layout=None):
     """Aged linear colour (in place in ``rgba``'s first three channels, (H, W, 4), or in
     ``out``'s, the same shape) of ``copy`` (or its ``lane``) colour ``rgba`` at
     ``years``: the numpy twin of the node group. With ``codes``, the 8-bit sRGB codes
@@ -316,6 +317,10 @@ def aged_rgb(scene, copy, rgba, years, lane=None, key=None, out=None, codes=Fals
     signature, its object's exposure and the colour are the same (:func:`twin_key`,
     or ``key`` when the caller has it); then a years value costs the dose lookup and
     the colour stage (tens of ms per Mtexel).
+
+    With ``layout`` (:class:`.mosaic.Layout`), ``rgba`` (n, 1, 4) holds its samples
+    (:meth:`.mosaic.Pyramid.samples`) and their annual doses are gathered the same way
+    from the maps at each level; ``key`` then names its mosaic.
     """
     props = copy.lightfade
     obj = props.aged_object
@@ -328,7 +333,7 @@ def aged_rgb(scene, copy, rgba, years, lane=None, key=None, out=None, codes=Fals
     cached = _PREPARED.get(slot)
     if cached is None or cached[0] != inputs_key:
         inputs, _keys = agingdata.map_inputs(scene, obj)
-        prep = prepare_texels(table, agingdata.rates(inputs, table.S, (H, W)))
+        prep = prepare_texels(table, _rates(inputs, table.S, (H, W), layout))
     else:
         prep = cached[2]
         if cached[1] != digest:                      # the colour changed: no band is valid
@@ -338,3 +343,17 @@ def aged_rgb(scene, copy, rgba, years, lane=None, key=None, out=None, codes=Fals
     evaluate_prepared(table, prep, flat[:, :3], float(years), out=target,
                       cells=_cells(copy, lane, table), codes=codes)
     return rgba if out is None else out
+
+
+def _rates(inputs, S, shape, layout=None):
+    """(S, n) annual doses of the texels of an (H, W) colour (:func:`.data.rates`), or of
+    the samples of a :class:`.mosaic.Layout`, each tile's at its level."""
+    if layout is None:
+        return agingdata.rates(inputs, S, shape)
+    W, H = layout.mosaic.size
+
+    def at_level(L):
+        h, w = H >> L, W >> L
+        return agingdata.rates(inputs, S, (h, w)).reshape(S, h, w).transpose(1, 2, 0)
+
+    return np.ascontiguousarray(layout.extend(layout.mosaic.gather(at_level)).T)
