@@ -43,7 +43,7 @@ import numpy as np
 from bpy.app.handlers import persistent
 
 from . import detail, runtime, stub
-from .mosaic import Pyramid
+from .blocks import Pyramid
 from .instances import apply_problem
 from ..exposure import exposure_shape
 from .copies import _colour_socket, _duplicate, copies_of
@@ -141,17 +141,15 @@ _WRITTEN = {}
 class Held:
     """What a frame image was written from: the twin's key (:func:`.runtime.twin_key`:
     table, signature, exposure, size, the colour's CRC), the years, the image's size,
-    its tiles' levels (:attr:`.mosaic.Mosaic.key`; None: whole), the texels (or tiles'
-    samples) aged, and the colour's :func:`.runtime.colour_state` (None: read the colour
-    to compare;
-    where it is known, :func:`.runtime.held_colour` holds the colour itself, so the
+    its level (:mod:`.detail`), the samples aged (:mod:`.blocks`) and the colour's
+    :func:`.runtime.colour_state` (None: read the colour to compare; where it is known, :func:`.runtime.held_colour` holds the colour itself, so the
     next years value ages it without reading the texture again)."""
 
     key: tuple
     years: float
     size: tuple
     state: tuple | None
-    tiles: tuple | None = None
+    level: int = 0
     texels: int = 0
 
 
@@ -183,9 +181,10 @@ def write_frame(scene, copy, years, view=None, depsgraph=None):
     """Write ``copy``'s aged colour at ``years`` into its frame image, unless it holds
     exactly that already; returns the image (None without a frame branch).
 
-    The image is the texture's resolution, or, tile by tile, coarser by the level of
-    detail the camera ``view`` resolves there (:func:`.detail.camera_view`, :mod:`.mosaic`;
-    None: full resolution): the colour's block means (held while it is the same), aged.
+    The image is the texture's resolution, or coarser by the level of detail the camera
+    ``view`` resolves (:func:`.detail.camera_view`; None: full resolution): the
+    colour's blocks (held while it is the same), aged as their means or, where a block
+    mixes two colours, as its two parts (:mod:`.blocks`).
     "Already" is known without reading the colour where its image is as it was loaded,
     saved or generated (:func:`.runtime.colour_state`); else the colour is read and its
     CRC compared (:func:`.runtime.twin_key`). The aged colour is encoded to the image's
@@ -198,25 +197,24 @@ def write_frame(scene, copy, years, view=None, depsgraph=None):
     years = float(years)
     if copy.lightfade.path == "BAKED":
         ensure_albedo(scene, copy)
-    mosaic = frame_mosaic(copy, view, depsgraph)
-    tiles = None if mosaic is None else mosaic.key
+    L = frame_level(copy, view, depsgraph)
     state = runtime.colour_state(copy)
     held = _WRITTEN.get(image.as_pointer())
-    same = held is not None and tuple(image.size) == held.size and held.tiles == tiles
+    same = held is not None and tuple(image.size) == held.size and held.level == L
     if same and state is not None and held.state == state and held.years == years \
             and held.key[:-2] == runtime.inputs_key(scene, copy):
         return image
     colour, key = runtime.held_colour(scene, copy, state)
-    if mosaic is not None:
-        layout, colour, key = _pyramid(image, colour, key).samples(mosaic)
+    layout = None
+    if L:
+        layout, colour, key = _pyramid(image, colour, key).samples(L)
     if same and held.key == key and held.years == years:
         held.state = state
         return image
     codes = np.empty_like(colour)
     codes[..., 3] = colour[..., 3]
-    runtime.aged_rgb(scene, copy, colour, years, key=key, out=codes, codes=True,
-                     layout=None if mosaic is None else layout)
-    if mosaic is not None:
+    runtime.aged_rgb(scene, copy, colour, years, key=key, out=codes, codes=True, layout=layout)
+    if layout is not None:
         codes = layout.image(codes.reshape(-1, 4))
     H, W = codes.shape[:2]
     if tuple(image.size) != (W, H):
@@ -224,31 +222,32 @@ def write_frame(scene, copy, years, view=None, depsgraph=None):
     image.pixels.foreach_set(codes.reshape(-1))
     image.update()
     image["lightfade_years"] = years
-    _WRITTEN[image.as_pointer()] = Held(key, years, (W, H), state, tiles, colour.size // 4)
+    _WRITTEN[image.as_pointer()] = Held(key, years, (W, H), state, L, colour.size // 4)
     return image
 
 
 def texels_aged(copy):
-    """Texels (or samples of tiles) the last write of ``copy``'s frame image aged."""
+    """Texels (or blocks and parts, :mod:`.blocks`) the last write of ``copy``'s frame
+    image aged."""
     image = frame_image(copy)
     held = None if image is None else _WRITTEN.get(image.as_pointer())
     return 0 if held is None else held.texels
 
 
-def frame_mosaic(copy, view, depsgraph):
-    """The :class:`.mosaic.Mosaic` of ``copy``'s frame image under the camera ``view``
-    (:func:`.detail.copy_mosaic`); None (whole) without a frame branch."""
+def frame_level(copy, view, depsgraph):
+    """The level of ``copy``'s frame image under the camera ``view`` (:func:`.detail.
+    copy_level`); 0 (whole) without a frame branch."""
     nodes = frame_nodes(copy)
-    return detail.copy_mosaic(copy, nodes[0][1], view, depsgraph) if nodes else None
+    return detail.copy_level(copy, nodes[0][1], view, depsgraph) if nodes else 0
 
 
 #: The colours of frame images written coarser than their texture: image pointer ->
-#: :class:`.mosaic.Pyramid`.
+#: :class:`.blocks.Pyramid`.
 _COARSE = {}
 
 
 def _pyramid(image, colour, key):
-    """The :class:`.mosaic.Pyramid` of ``colour`` (twin key ``key``) for ``image``."""
+    """The :class:`.blocks.Pyramid` of ``colour`` (twin key ``key``) for ``image``."""
     held = _COARSE.get(image.as_pointer())
     if held is None or held.key != key:
         held = _COARSE[image.as_pointer()] = Pyramid(colour, key)

@@ -318,9 +318,9 @@ def aged_rgb(scene, copy, rgba, years, lane=None, key=None, out=None, codes=Fals
     or ``key`` when the caller has it); then a years value costs the dose lookup and
     the colour stage (tens of ms per Mtexel).
 
-    With ``layout`` (:class:`.mosaic.Layout`), ``rgba`` (n, 1, 4) holds its samples
-    (:meth:`.mosaic.Pyramid.samples`) and their annual doses are gathered the same way
-    from the maps at each level; ``key`` then names its mosaic.
+    With ``layout`` (:class:`.blocks.Layout`), ``rgba`` (n, 1, 4) holds its samples
+    (:meth:`.blocks.Pyramid.samples`) and their annual doses are the level's, extended
+    the same way; ``key`` then names the level.
     """
     props = copy.lightfade
     obj = props.aged_object
@@ -347,13 +347,8 @@ def aged_rgb(scene, copy, rgba, years, lane=None, key=None, out=None, codes=Fals
 
 def _rates(inputs, S, shape, layout=None):
     """(S, n) annual doses of the texels of an (H, W) colour (:func:`.data.rates`), or of
-    the samples of a :class:`.mosaic.Layout`, each tile's at its level."""
+    the samples of a :class:`.blocks.Layout` (its level's blocks, then the brighter parts
+    of the mixed ones)."""
     if layout is None:
         return agingdata.rates(inputs, S, shape)
-    W, H = layout.mosaic.size
-
-    def at_level(L):
-        h, w = H >> L, W >> L
-        return agingdata.rates(inputs, S, (h, w)).reshape(S, h, w).transpose(1, 2, 0)
-
-    return np.ascontiguousarray(layout.extend(layout.mosaic.gather(at_level)).T)
+    return np.ascontiguousarray(layout.extend(agingdata.rates(inputs, S, layout.shape).T).T)
