@@ -31,7 +31,6 @@ import math
 
 import numpy as np
 
-
 #: Frame texels a render pixel spans at least, in every direction, at the level chosen
 #: (a mipmap's choice; two before the blocks of two colours were aged as their parts:
 #: docs/blender.md).
