@@ -112,6 +112,7 @@ def test_blocks_of_two_colours_age_as_the_mean_of_their_aged_texels():
     rgba = np.full((32, 32, 4), 0.3, np.float32)
     rgba[..., 3] = 1.0
     rgba[:3, :5, :3] = (0.9, 0.8, 0.05)                        # a yellow dot on a grey ground
+    rgba[:3, :5, 3] = 0.5                                      # half transparent
     rgba[20:, 20:, :3] += np.float32(0.001)                    # two close greys: not split
 
     def age(rgb):
@@ -125,6 +126,7 @@ def test_blocks_of_two_colours_age_as_the_mean_of_their_aged_texels():
     image = layout.image(codes)
     truth = block_mean(np.concatenate([age(rgba[..., :3]), rgba[..., 3:]], -1), 2)
     np.testing.assert_allclose(image[..., :3], srgb_code_floats(truth[..., :3]), atol=1.5 / 255)
+    np.testing.assert_allclose(image[..., 3], truth[..., 3], atol=1e-6)   # the blocks' alpha
     naive = srgb_code_floats(age(block_mean(rgba, 2)[..., :3]))
     assert np.abs(naive - srgb_code_floats(truth[..., :3])).max() > 20 / 255
 

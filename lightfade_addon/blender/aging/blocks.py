@@ -78,13 +78,16 @@ class Layout:
         """The frame image ((h, w, 4)) of the samples' aged 8-bit sRGB codes over 255
         ``codes`` (n + m, 4; written over): each mixed block the mean of its two parts'
         aged linear colours, weighted by their texels, encoded again (within a code of
-        the mean of the unrounded colours)."""
+        the mean of the unrounded colours), and the mean of their alphas."""
         n = len(codes) - len(self.mixed)
         out = codes[:n]                                  # in place: the caller's buffer
         if len(self.mixed):
+            w = self.weight[:, None]
             first = _linear(out[self.mixed, :3])
-            first += self.weight[:, None] * (_linear(codes[n:, :3]) - first)
-            out[self.mixed, :3] = srgb_code_floats(first)
+            first += w * (_linear(codes[n:, :3]) - first)
+            alpha = out[self.mixed, 3:]                  # alpha is linear: mixed as it is
+            alpha += w * (codes[n:, 3:] - alpha)
+            out[self.mixed] = np.concatenate([srgb_code_floats(first), alpha], axis=1)
         return out.reshape(*self.shape, -1)
 
 
