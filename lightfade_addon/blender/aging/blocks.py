@@ -19,8 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...core.colour.colorimetry import srgb_decode
 from ...core.colour.srgb8 import encode_srgb_f32, srgb_code_floats
+from ..pixels import decode_srgb_bytes
 
 __all__ = ["Layout", "Pyramid", "block_mean"]
 
@@ -83,23 +83,12 @@ class Layout:
         out = codes[:n]                                  # in place: the caller's buffer
         if len(self.mixed):
             w = self.weight[:, None]
-            first = _linear(out[self.mixed, :3])
-            first += w * (_linear(codes[n:, :3]) - first)
+            first = decode_srgb_bytes(out[self.mixed, :3])
+            first += w * (decode_srgb_bytes(codes[n:, :3]) - first)
             alpha = out[self.mixed, 3:]                  # alpha is linear: mixed as it is
             alpha += w * (codes[n:, 3:] - alpha)
             out[self.mixed] = np.concatenate([srgb_code_floats(first), alpha], axis=1)
         return out.reshape(*self.shape, -1)
-
-
-def _linear(codes):
-    """Linear values of 8-bit sRGB codes over 255 (IEC 61966-2-1, :func:`..core.colour.
-    colorimetry.srgb_decode` of each of the 256 codes)."""
-    if not _DECODED:
-        _DECODED.append(srgb_decode(np.arange(256) / 255.0).astype(np.float32))
-    return np.take(_DECODED[0], np.rint(codes * np.float32(255.0)).astype(np.int32))
-
-
-_DECODED = []
 
 
 class Pyramid:

@@ -142,8 +142,9 @@ class Held:
     """What a frame image was written from: the twin's key (:func:`.runtime.twin_key`:
     table, signature, exposure, size, the colour's CRC), the years, the image's size,
     its level (:mod:`.detail`), the samples aged (:mod:`.blocks`) and the colour's
-    :func:`.runtime.colour_state` (None: read the colour to compare; where it is known, :func:`.runtime.held_colour` holds the colour itself, so the
-    next years value ages it without reading the texture again)."""
+    :func:`.runtime.colour_state` (None: read the colour to compare; where it is known,
+    :func:`.runtime.held_colour` holds the colour itself, so the next years value ages
+    it without reading the texture again)."""
 
     key: tuple
     years: float
@@ -191,13 +192,14 @@ def write_frame(scene, copy, years, view=None, depsgraph=None):
     8-bit sRGB codes as it is evaluated (:func:`..core.colour.srgb8.srgb_code_floats`)."""
     from .apply import ensure_albedo
 
-    image = frame_image(copy)
+    nodes = frame_nodes(copy)
+    image = nodes[0][1].image if nodes else None
     if image is None or not renders_frames(copy):
         return None
     years = float(years)
     if copy.lightfade.path == "BAKED":
         ensure_albedo(scene, copy)
-    L = frame_level(copy, view, depsgraph)
+    L = detail.copy_level(copy, nodes[0][1], view, depsgraph)
     state = runtime.colour_state(copy)
     held = _WRITTEN.get(image.as_pointer())
     same = held is not None and tuple(image.size) == held.size and held.level == L
@@ -234,23 +236,16 @@ def texels_aged(copy):
     return 0 if held is None else held.texels
 
 
-def frame_level(copy, view, depsgraph):
-    """The level of ``copy``'s frame image under the camera ``view`` (:func:`.detail.
-    copy_level`); 0 (whole) without a frame branch."""
-    nodes = frame_nodes(copy)
-    return detail.copy_level(copy, nodes[0][1], view, depsgraph) if nodes else 0
-
-
 #: The colours of frame images written coarser than their texture: image pointer ->
 #: :class:`.blocks.Pyramid`.
-_COARSE = {}
+_PYRAMIDS = {}
 
 
 def _pyramid(image, colour, key):
     """The :class:`.blocks.Pyramid` of ``colour`` (twin key ``key``) for ``image``."""
-    held = _COARSE.get(image.as_pointer())
+    held = _PYRAMIDS.get(image.as_pointer())
     if held is None or held.key != key:
-        held = _COARSE[image.as_pointer()] = Pyramid(colour, key)
+        held = _PYRAMIDS[image.as_pointer()] = Pyramid(colour, key)
     return held
 
 
@@ -380,14 +375,14 @@ def forget():
     """Forget what the frame images hold (file load, unregister)."""
     _WRITTEN.clear()
     stub.forget()
-    _COARSE.clear()
+    _PYRAMIDS.clear()
 
 
 def remove_frame_images(copy):
     for _tree, node in frame_nodes(copy):
         if node.image is not None:
             _WRITTEN.pop(node.image.as_pointer(), None)
-            _COARSE.pop(node.image.as_pointer(), None)
+            _PYRAMIDS.pop(node.image.as_pointer(), None)
             bpy.data.images.remove(node.image)
             node.image = None
 
