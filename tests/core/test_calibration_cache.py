@@ -56,7 +56,7 @@ def test_a_corrupt_file_is_solved_again(private_disk):
 
 def test_the_solve_simulates_each_trial_beta_once(private_disk, monkeypatch):
     """Brent's method starts at the bracket's ends, already simulated while bracketing:
-    no trial beta is simulated twice."""
+    no trial beta is simulated twice; the secant steps bracket the root in a few."""
     real, trials = calibration._calibration_fade, []
 
     def counted(recipe, j, beta, dose, lam):
@@ -65,4 +65,24 @@ def test_the_solve_simulates_each_trial_beta_once(private_disk, monkeypatch):
 
     monkeypatch.setattr(calibration, "_calibration_fade", counted)
     _beta(get_recipe("dyed-fabric"), 0, 4.0)
-    assert len(trials) > 5 and len(set(trials)) == len(trials)
+    assert 3 <= len(trials) <= 10 and len(set(trials)) == len(trials)
+
+
+@pytest.mark.parametrize("name, j, blue_wool", [("dyed-fabric", 0, 4.0), ("bare-wood", 0, 1.0),
+                                                 ("printed-paper", 2, 3.0)])
+def test_the_secant_bracket_finds_the_stepped_brackets_root(private_disk, monkeypatch, name,
+                                                             j, blue_wool):
+    """The secant steps and the plain steps of 4 from log beta = -30 (the fallback)
+    reach the same beta, and its fade is the JND; the secant in at most 10 simulations
+    (Bare Wood's lignin converges from below: a step across brackets it)."""
+    recipe, lam = get_recipe(name), np.asarray(calibration.WAVELENGTHS)
+    real, trials = calibration._calibration_fade, []
+    monkeypatch.setattr(calibration, "_calibration_fade",
+                        lambda *a: trials.append(a[2]) or real(*a))
+    fast = calibration._solve_beta(recipe, j, blue_wool, lam)
+    assert len(trials) <= 10
+    monkeypatch.setattr(calibration, "_SECANT_STEPS", 0)
+    stepped = calibration._solve_beta(recipe, j, blue_wool, lam)
+    assert np.log(fast) == pytest.approx(np.log(stepped), abs=1e-9)
+    fade = calibration._calibration_fade(recipe, j, fast, calibration.blue_wool_dose(blue_wool), lam)
+    assert fade == pytest.approx(calibration.JND_DELTA_E, rel=1e-9)

@@ -107,6 +107,16 @@ class TestXYZToLab:
         expected = colour.XYZ_to_Lab(XYZ, W[:2] / W.sum())
         np.testing.assert_allclose(XYZ_to_Lab(XYZ), expected, atol=1e-10)
 
+    def test_matches_colour_under_another_white_for_any_shape(self):
+        """Written out for speed (the unmixing's hot path): the same CIE 15 formulae as
+        colour-science, with the illuminant's own white, on (..., 3) arrays, below
+        zero too (a solver's step can leave the gamut)."""
+        rng = np.random.default_rng(5)
+        XYZ = rng.uniform(-0.05, 1.1, (4, 25, 3))
+        W = white_XYZ("A")
+        expected = colour.XYZ_to_Lab(XYZ, W[:2] / W.sum())
+        np.testing.assert_allclose(XYZ_to_Lab(XYZ, "A"), expected, atol=1e-10)
+
     def test_white_point_is_d65(self):
         W = white_XYZ("D65")
         np.testing.assert_allclose(W[:2] / W.sum(), [0.3127, 0.3290], atol=2e-4)
@@ -205,3 +215,19 @@ class TestRmsDeltaR:
                     for i in range(2)]
         np.testing.assert_allclose(out, expected, rtol=1e-12)
         assert np.all(out[1] > 0.1)
+
+
+def test_colour_science_without_matplotlib_says_nothing():
+    """In Blender matplotlib is missing (the extension does not ship it) and
+    colour-science warns about it on import: LightFade silences that one line."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    code = ("import sys, warnings; sys.modules['matplotlib'] = None; "
+            "warnings.simplefilter('always'); "
+            "from lightfade_addon.core.colour.colorimetry import white_XYZ; white_XYZ()")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=Path(__file__).resolve().parents[2], timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert "Matplotlib" not in run.stderr
