@@ -145,6 +145,8 @@ def _beta_cached(recipe, j, blue_wool, wavelengths):
 _LOG_BETA_START = -13.0
 #: Secant steps :func:`_solve_beta` takes before it brackets the root by plain steps.
 _SECANT_STEPS = 8
+#: The ``log beta`` the plain steps search (:func:`_stepped_bracket`); the secant's too.
+_LOG_BETA_RANGE = (-30.0, 30.0)
 
 
 def _solve_beta(recipe, j, blue_wool, lam):
@@ -153,7 +155,7 @@ def _solve_beta(recipe, j, blue_wool, lam):
     The root is bracketed by secant steps on ``log ΔE`` against ``log beta`` (a small
     fade is nearly proportional to ``beta``: the first step from
     :data:`_LOG_BETA_START` lands within a few per cent of it), then Brent's method
-    takes it to 1e-10 in ``log beta`` inside the tightest bracket found: 8–10
+    takes it to 1e-10 in ``log beta`` inside the tightest bracket found: 5–8
     simulations, where stepping from ``log beta = -30`` by 4 took 13–16 (0.11–0.13 s
     each calibration; an Age of two recipes solves four).  Should the steps not
     bracket it (a fade that saturates), the plain steps do.
@@ -179,6 +181,8 @@ def _secant_bracket(excess, width=1e-6):
     x, g_prev, x_prev = _LOG_BETA_START, None, None
     for _ in range(_SECANT_STEPS):
         f = excess(x)
+        if not np.isfinite(f):
+            return None, None
         if f < 0:
             lo = x if lo is None else max(lo, x)
         else:
@@ -197,7 +201,7 @@ def _secant_bracket(excess, width=1e-6):
         if lo is None or hi is None:
             if abs(step) < width:               # converged from one side: step across
                 step = width if hi is None else -width
-            x = x + step
+            x = min(max(x + step, _LOG_BETA_RANGE[0]), _LOG_BETA_RANGE[1])
         else:                                   # stay inside what is known
             x = min(max(x + step, lo + width / 4), hi - width / 4)
     return lo, hi
@@ -205,10 +209,10 @@ def _secant_bracket(excess, width=1e-6):
 
 def _stepped_bracket(recipe, j, excess):
     """``(lo, hi)`` bracketing the root by steps of 4 in ``log beta`` from -30."""
-    lo, hi = -30.0, -30.0
+    lo = hi = _LOG_BETA_RANGE[0]
     while excess(hi) < 0:
         lo, hi = hi, hi + 4.0
-        if hi > 30:
+        if hi > _LOG_BETA_RANGE[1]:
             raise ValueError(
                 f"recipe {recipe.name!r}: colourant {recipe.colourants[j]!r} does not fade "
                 f"under the calibration light {recipe.calibration_light!r}"
