@@ -41,6 +41,8 @@ def test_noise_is_relative_at_lit_texels_and_the_mean_error_is_the_passes_spread
     truth = np.full((64, 64), 4.0)
     truth[:, :8] = 1e6
     passes = truth * (1.0 + 0.2 * rng.standard_normal((4, 64, 64)))
+    # a shadow (under 5 % of the lit level): its relative error is not the map's
+    passes[:, :, 8:12] = 0.01 * (1.0 + 3.0 * rng.standard_normal((4, 64, 4)))
     found = adaptive.noise(passes, covered, 4)
     # the mean of 4 passes: relative error 0.2 / 2, p95 of |N(0, 0.1)|: 1.96 × 0.1
     assert (found.passes, found.samples) == (4, 16)
@@ -92,6 +94,11 @@ def test_the_mean_error_from_the_raw_texels_is_the_spread_of_the_mean_over_draws
     spread.add(truth + sigma / 2 * rng.standard_normal(truth.shape), 4)
     spread.add(truth + sigma / math.sqrt(12) * rng.standard_normal(truth.shape), 12)
     exact = math.sqrt((sigma[covered] ** 2 / 16).sum()) / truth[covered].sum()
+    assert spread.mean_error(covered) == pytest.approx(exact, rel=0.15)
+    # three passes (two contrasts, pooled): 4 + 4 + 8 samples
+    spread = adaptive.RawSpread()
+    for n in (4, 4, 8):
+        spread.add(truth + sigma / math.sqrt(n) * rng.standard_normal(truth.shape), n)
     assert spread.mean_error(covered) == pytest.approx(exact, rel=0.15)
     assert adaptive.RawSpread().mean_error(covered) is None
 
