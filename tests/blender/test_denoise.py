@@ -37,6 +37,22 @@ def test_preserve_mean_undoes_a_shadow_bias_and_keeps_the_edge(dn):
     assert shadow.std() / shadow.mean() < 0.1
 
 
+def test_preserve_mean_is_smooth_across_its_brightness_bands(dn):
+    """A texel belongs to the two bands around its brightness with hat weights, so a
+    loss that changes with brightness is given back smoothly: a ramp over four stops,
+    denoised 5-20 % low (more where darker), comes out a ramp again, each step within
+    a few per cent of the input's (in one band only, a band's edge would jump by the
+    two bands' different losses)."""
+    n = 96
+    den = np.broadcast_to(2.0 ** np.linspace(-4.0, 0.0, n)[None, :], (n, n)).copy()
+    raw = den / (0.8 + 0.15 * (np.log2(den) + 4.0) / 4.0)      # 20 % low at the dark end
+    out = dn.preserve_mean(den, raw, np.ones((n, n), bool), radius=48)
+    steps = np.diff(np.log(out[n // 2]))
+    input_step = np.log(2.0) * 4.0 / (n - 1)
+    assert np.all(steps > 0) and np.max(np.abs(steps / input_step - 1.0)) < 0.25
+    assert abs(out[n // 2].mean() / raw[n // 2].mean() - 1.0) < 0.05
+
+
 def test_preserve_mean_leaves_an_unbiased_map_and_the_outside_alone(dn):
     truth, raw = shadow_scene(seed=1)
     inside = np.ones(truth.shape, bool)
@@ -155,6 +171,48 @@ def test_3d_filter_of_a_stack_is_each_map_filtered_alone(f3):
         alone = f3.smooth_on_surface(raws[j], guides[j], position, normal, covered, texel)
         np.testing.assert_allclose(both[j], alone, rtol=1e-5, atol=1e-7)
     assert not np.allclose(both[0], both[1], rtol=0.1)
+
+
+def test_3d_filter_weighs_neighbours_by_the_epanechnikov_kernel_of_their_distance(f3):
+    """One bright texel on a flat floor: each texel within the radius (3 texels) takes
+    ``K(d / r) / Σ K`` of it, ``K(x) = 1 - x²``; from 3 texels on, nothing."""
+    position, normal, covered, texel = flipped_halves()
+    raw = np.zeros(covered.shape)
+    raw[20, 10] = 1.0
+    out = f3.smooth_on_surface(raw, np.ones_like(raw), position, normal, covered, texel)
+    offsets = [(dy, dx) for dy in range(-3, 4) for dx in range(-3, 4)]
+
+    def kernel(dy, dx):
+        return max(1.0 - (dy * dy + dx * dx) / 9.0, 0.0)
+
+    total = sum(kernel(dy, dx) for dy, dx in offsets)     # every texel's disc is whole
+    for dy, dx in [(0, 0), (0, 1), (1, 1), (2, 0), (2, 2), (0, 3), (3, 1)]:
+        assert out[20 + dy, 10 + dx] == pytest.approx(kernel(dy, dx) / total, rel=1e-4,
+                                                      abs=1e-7)
+
+
+def test_3d_filter_mixes_the_dark_texels_of_one_shadow(f3):
+    """Guide values under 1e-3 of its 99th percentile count as that: a shadow's texels
+    at 1e-5 and 1e-6 of the light are alike and average together (a range weight on
+    their own 3.3 stops would keep them apart)."""
+    position, normal, covered, texel = flipped_halves()
+    guide = np.full(covered.shape, 1e-5)
+    guide[:, 16:32] = 1e-6
+    guide[:8] = 1.0                                        # the lit part, far away
+    out = f3.smooth_on_surface(guide, guide, position, normal, covered, texel)
+    assert out[30, 15] < 0.8e-5 and out[30, 16] > 2e-6
+
+
+def test_the_margin_takes_the_nearest_covered_texel(f3):
+    covered = np.zeros((8, 8), bool)
+    covered[2:6, 2:6] = True
+    inside = np.zeros((8, 8), bool)
+    inside[1:7, 1:7] = True
+    values = np.arange(64, dtype=float).reshape(8, 8)
+    out = f3.extend_over_margin(values, covered, inside)
+    assert out[1, 3] == values[2, 3] and out[4, 6] == values[4, 5]
+    assert out[1, 1] == values[2, 2] and out[0, 0] == values[0, 0]   # outside: as it was
+    np.testing.assert_array_equal(out[covered], values[covered])
 
 
 def test_preserve_mean_gives_back_rare_bright_paths_the_denoiser_took_for_outliers(dn):
