@@ -137,6 +137,12 @@ class TestHistory:
         rates = np.zeros((1, len(seen)), np.float32)
         new = evaluate(table, seen, rates, 0.0)
         assert delta_E_2000(lab(new), lab(seen)).mean() > 1
+        # under two spectra, an unlit texel reads the first spectrum's slot (its change
+        # at no dose is the restoration, not nothing)
+        two = build_table(recipe, KEY + [("incandescent", False)], SMALL, prior=prior,
+                          restore_kw=dict(settings=GridSettings(points=5, doses=17)))
+        np.testing.assert_allclose(evaluate(two, seen, np.zeros((2, len(seen)), np.float32),
+                                            0.0), new, atol=2e-3)
 
 
 class TestAtlas:
