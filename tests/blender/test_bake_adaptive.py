@@ -274,6 +274,11 @@ def test_the_scene_settings_carry_the_presets_target_and_the_cap(two_lights):
     assert (settings.noise_target, settings.mean_target, settings.pass_samples) == (
         final.noise_target, final.mean_target, final.pass_samples)
     assert (settings.first_passes, settings.cap_samples, settings.most_passes) == (2, 128, 4)
+    assert settings.portals and settings.max_seconds == 0.0
+    scene.lightfade_bake.window_portals = False
+    scene.lightfade_bake.max_minutes = 2.5
+    settings = BakeSettings.from_scene(scene)
+    assert not settings.portals and settings.max_seconds == 150.0
     floor, wall = two_lights
     result = api.bake(scene, [wall], max_samples=8, density=16)
     assert scene.lightfade_bake.max_samples == 8
