@@ -351,6 +351,31 @@ def test_an_animation_writes_each_frames_years(textured, tmp_path):
     assert switched(frames) == [0.0]
 
 
+def test_a_subframe_reads_the_years_between_its_keys(blender):
+    """Motion blur renders subframes: each reads the keyed years at its own time."""
+    from lightfade_addon import api
+    from lightfade_addon.blender.aging import frames
+
+    scene = bpy.context.scene
+    api.keyframe_years(scene, [(1, 0.0), (3, 40.0)])
+    scene.frame_set(2, subframe=0.5)
+    assert frames.frame_years(scene) == pytest.approx(30.0)
+
+
+def test_a_texture_with_a_history_shows_its_frame_image_at_zero_years(blender):
+    """At 0 years a new texture renders the live side (the original pixel for pixel);
+    one that was already old renders its frame image: its 0 years is the restoration."""
+    from types import SimpleNamespace
+
+    from lightfade_addon.blender.aging import frames
+
+    material = bpy.data.materials.new("Print")
+    copy = SimpleNamespace(lightfade=SimpleNamespace(source=material))
+    assert not frames._shows(copy, 0.0) and frames._shows(copy, 0.5)
+    material.lightfade.already_years = 10.0
+    assert frames._shows(copy, 0.0)
+
+
 def test_reset_removes_the_frame_images(textured):
     from lightfade_addon.blender.aging import frames
 

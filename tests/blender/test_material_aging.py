@@ -306,6 +306,26 @@ def _plain_evaluation(scene, copy, years):
     return flat.reshape(H, W, 4)
 
 
+def test_the_maps_give_annual_doses_of_the_lamps_days_and_hours(textured):
+    """Each map counts lux × hours a day × days a year (a lamp used 6 h on 200 days:
+    1200 h), and never a negative dose (a map painted below zero)."""
+    from lightfade_addon.blender.aging import data as agingdata
+
+    _bake_and_age()
+    scene = bpy.context.scene
+    copy = the_copy(textured["material"])
+    sun = next(o for o in scene.objects if o.type == "LIGHT")
+    sun.data.lightfade.hours_per_day, sun.data.lightfade.days_per_year = 6.0, 200.0
+    (found,), _keys = agingdata.map_inputs(scene, copy.lightfade.aged_object)
+    assert found.hours == pytest.approx(1200.0)
+    image = bpy.data.images.new("Painted", 4, 4, float_buffer=True)
+    px = np.full((4, 4, 4), 1.0, np.float32)
+    px[0, :, 0] = -50.0
+    image.pixels.foreach_set(px.ravel())
+    doses = agingdata.rates([agingdata.MapInput(image, 0, 1200.0)], 1, (4, 4)).reshape(4, 4)
+    assert np.all(doses[0] == 0.0) and np.allclose(doses[2:], 1200.0)
+
+
 def test_applied_images_follow_years_painting_and_exposure(textured):
     """What Apply keeps per texel between calls (doses, the change around the last
     years) never shows through: each Apply equals the plain evaluator after a years
