@@ -14,7 +14,7 @@ Final preset before the adaptive bake, issue 36's "today's default") and then wi
 default Final preset, ``--repeat`` times alternated (after one small bake that warms the
 sky map and Cycles' kernels).  Printed: each bake's wall and CPU seconds and the CPU
 ratio (target: at most 1.6), the CPU by kind of work (the Cycles operator, the reading
-back and denoising of each pass, the 3D filter and the measurement), and per object the noise the default bake reached
+back and denoising of each finished pass, the 3D filter, the raw bound and the measurement), and per object the noise the default bake reached
 (p95 per lit texel, the error of its mean), its samples and passes, and whether it hit
 the cap.  Only the CPU ratio counts on a shared machine.  ``--targets`` bakes the Final
 preset once per per-texel noise target given (the fixed bake once, first) and prints,
@@ -38,14 +38,15 @@ import bpy  # noqa: E402
 
 @contextlib.contextmanager
 def cpu_by_kind(totals):
-    """Add the CPU seconds of the bake's Cycles calls (the operator), denoising (each pass
-    read back and denoised), 3D filter and measurement to ``totals`` while inside (the
-    methods are wrapped, then put back)."""
-    from lightfade_addon.blender.bake import passes, state
+    """Add the CPU seconds of the bake's Cycles calls (the operator), denoising (each
+    finished pass), 3D filter, the raw bound of the first passes and measurement to
+    ``totals`` while inside (the functions are wrapped, then put back)."""
+    from lightfade_addon.blender.bake import filter3d, passes, state
 
     wrapped = [(state.BakeState, "bake", "Cycles"),
-               (passes.Passes, "add", "denoise"),
-               (passes.Passes, "finish", "3D filter"),
+               (passes.Passes, "_denoised", "denoise"),
+               (filter3d, "smooth_on_surface", "3D filter"),
+               (passes.Passes, "_clean_by_raw", "raw bound"),
                (passes.Passes, "measure", "measure")]
     originals = [getattr(cls, name) for cls, name, _ in wrapped]
 
@@ -126,9 +127,10 @@ def main():
     for label, (wall, cpu, by_kind) in cost.items():
         print(f"{label:<20}{wall:>9.1f}{cpu:>9.1f}{cpu / base:>13.2f}"
               + "".join(f"{by_kind[k]:>22.1f}" for k in kinds))
-    print(f"\n{'object <- group':<48}{'p95':>7}{'mean':>8}{'spp':>6}{'passes':>8}  cap")
+    print(f"\n{'object <- group':<48}{'p95':>7}{'mean':>8}{'spp':>6}{'passes':>8}  cap"
+          "  (≤: a bound from the raw first passes, finished once)")
     for (obj, group), found in noise.items():
-        p95 = "-" if found.p95 is None else f"{found.p95:.1%}"
+        p95 = "-" if found.p95 is None else f"{'≤' if found.bound else ''}{found.p95:.1%}"
         mean = "-" if found.mean is None else f"{found.mean:.2%}"
         print(f"{obj + ' <- ' + group:<48}{p95:>7}{mean:>8}{found.samples:>6}"
               f"{found.passes:>8}  {'hit' if found.capped else ''}")

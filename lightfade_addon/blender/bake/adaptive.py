@@ -88,6 +88,9 @@ class Noise:
         Relative standard error of the object's mean lux; None with one pass.
     capped : bool
         Stopped by the cap (samples or time) above the target.
+    bound : bool
+        ``p95`` is an upper bound from the raw first passes (:func:`raw_bound`): the map
+        was finished once, from their mean.
     """
 
     passes: int
@@ -95,12 +98,15 @@ class Noise:
     p95: float | None = None
     mean: float | None = None
     capped: bool = False
+    bound: bool = False
 
     def text(self):
         if self.p95 is None:
             return f"{self.samples} spp (one pass: noise not measured)"
         cap = ", hit the cap" if self.capped else ""
-        return (f"noise {self.p95:.1%} p95, mean ±{self.mean:.2%}, "
+        noise = (f"noise at most {self.p95:.1%} p95 (its raw passes)" if self.bound
+                 else f"noise {self.p95:.1%} p95")
+        return (f"{noise}, mean ±{self.mean:.2%}, "
                 f"{self.samples} spp in {self.passes} passes{cap}")
 
 
@@ -223,6 +229,53 @@ def noise(passes, covered, samples, spread=None):
         return result
     rel = np.abs(error_contrasts(F[:, lit], n)) / mean[lit]
     result.p95 = float(np.percentile(rel, 95))
+    return result
+
+
+#: The finished map's error over the raw contrasts' error after the 3D filter's average
+#: (the denoiser's "gain") that :func:`raw_bound` takes at most: measured 0.07-0.46 on
+#: the lampshade room's maps and 0.24-1.02 on the furnished room's, with the weights of
+#: the finished map (docs/bake.md); the raw mean's weights, which the bound uses, average
+#: less and read the contrasts higher still.
+RAW_BOUND = 1.0
+#: Texels :func:`sample_mask` keeps about (every k-th row and column).
+BOUND_TEXELS = 8192
+
+
+def sample_mask(covered, texels=BOUND_TEXELS):
+    """A regular sample of the ``covered`` texels (every ``k``-th row and column, ``k``
+    such that about ``texels`` remain; all of them in a small map): where
+    :func:`raw_bound`'s contrasts are filtered."""
+    covered = np.asarray(covered, bool)
+    k = max(1, int(math.sqrt(np.count_nonzero(covered) / float(texels))))
+    mask = np.zeros_like(covered)
+    mask[k // 2::k, k // 2::k] = True
+    return mask & covered
+
+
+def raw_bound(mean, contrasts, samples, mean_error):
+    """:class:`Noise` of a map from its raw first passes, before any denoising: ``mean``
+    (q,) and their Helmert ``contrasts`` (K − 1, q) (:func:`error_contrasts`), both
+    averaged over the texels' 3D neighbours as the map will be, at a sample of its
+    texels; the 95th percentile of ``|contrast| / mean`` at lit texels times
+    :data:`RAW_BOUND`.  The denoiser takes off at least what a linear average over the
+    same neighbours does, so the map finished from the passes' mean is no further from
+    a converged bake than this (an upper bound, not an estimate: a map above it is
+    measured from its finished passes).  ``mean_error``: the object's mean's, from
+    :class:`RawSpread`."""
+    result = Noise(len(contrasts) + 1, int(np.sum(samples)), mean=float(mean_error or 0.0),
+                   bound=True)
+    mean = np.asarray(mean, dtype=np.float64)
+    top = np.percentile(mean, 99) if mean.size else 0.0
+    if top <= 0:
+        result.p95 = 0.0
+        return result
+    lit = mean >= LIT_SHARE * top
+    if np.count_nonzero(lit) < MIN_LIT:      # too few to prove anything: measure it
+        result.p95 = math.inf
+        return result
+    rel = np.abs(np.asarray(contrasts, dtype=np.float64)[:, lit]) / mean[lit]
+    result.p95 = RAW_BOUND * float(np.percentile(rel, 95))
     return result
 
 

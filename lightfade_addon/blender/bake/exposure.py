@@ -318,7 +318,7 @@ class ExposureBake:
             known = self.baked.get(key, {}).get(group)
             names = list(dict.fromkeys((known[2] if known else []) + names))
             self.baked.setdefault(key, {})[group] = (step.group, images[key], names)
-            self.passes.add(key, group, self._samples(step), images[key])
+            self.passes.add(key, group, self._samples(step), images[key], step.index)
 
     def _next_round(self):
         """Adaptive bakes: measure every map's error from its passes (:mod:`.adaptive`)

@@ -51,7 +51,7 @@ _THREADS = min(os.cpu_count() or 1, 4)
 
 def smooth_on_surface(raw, guide, position, normal, covered, texel,
                       radius_texels=RADIUS_TEXELS, neighbours=NEIGHBOURS, min_dot=MIN_DOT,
-                      range_stops=RANGE_STOPS, floor=1e-3):
+                      range_stops=RANGE_STOPS, floor=1e-3, tree=None):
     """``raw`` averaged over its 3D neighbours on the surface, edges from ``guide`` (the
     equation above).
 
@@ -74,57 +74,88 @@ def smooth_on_surface(raw, guide, position, normal, covered, texel,
     floor : float
         Guide values below ``floor`` × its 99th percentile count as that (dark texels
         of one shadow are alike).
+    tree : scipy.spatial.cKDTree, optional
+        :func:`search_tree` of these texels, when the caller has it already.
 
     Returns
     -------
     ndarray, shape like ``raw``, float32
         Covered texels: the weighted mean; others: ``guide``.
     """
-    from scipy.spatial import cKDTree
-
     single = np.ndim(guide) == 2
     stack = (lambda a: np.asarray(a, dtype=np.float32)[None]) if single else (
         lambda a: np.asarray(a, dtype=np.float32))
     out = stack(guide).copy()
     cov = np.asarray(covered, bool)
+    if np.count_nonzero(cov):
+        out[:, cov] = _smooth(stack(raw), stack(guide), position, normal, cov, cov, texel,
+                              radius_texels, neighbours, min_dot, range_stops, floor, tree)
+    return out[0] if single else out
+
+
+def smooth_at(raw, guide, position, normal, covered, query, texel, **options):
+    """:func:`smooth_on_surface` of ``raw`` (G, H, W) at the ``query`` texels only (a bool
+    (H, W) mask inside ``covered``): (G, q) float32, in the order of ``query``'s texels.
+    The neighbours are all covered texels; only the queries are searched (a sample of
+    a map filtered at a fraction of the cost)."""
+    raw, guide = np.asarray(raw, np.float32), np.asarray(guide, np.float32)
+    return _smooth(raw, guide, position, normal, np.asarray(covered, bool),
+                   np.asarray(query, bool) & np.asarray(covered, bool), texel, **options)
+
+
+def search_tree(position, covered):
+    """The neighbour search's k-d tree of the ``covered`` texels' positions: an object's
+    filters in one :meth:`.passes.Passes.finish` share it."""
+    from scipy.spatial import cKDTree
+
+    return cKDTree(np.asarray(position, dtype=np.float64)[np.asarray(covered, bool)])
+
+
+def _smooth(raw, guide, position, normal, cov, query, texel, radius_texels=RADIUS_TEXELS,
+            neighbours=NEIGHBOURS, min_dot=MIN_DOT, range_stops=RANGE_STOPS, floor=1e-3,
+            tree=None):
+    """The equation above at the ``query`` texels of the ``cov`` texels ((H, W) masks) of
+    the stacked maps ``raw``, ``guide`` (G, H, W): (G, q)."""
     m = int(np.count_nonzero(cov))
-    if m == 0:
-        return out[0] if single else out
     P = np.asarray(position, dtype=np.float64)[cov]
     N = np.asarray(normal, dtype=np.float32)[cov]
-    B = stack(raw)[:, cov].T                                   # (m, G)
-    g = stack(guide)[:, cov].T.astype(np.float64)
+    B = raw[:, cov].T                                          # (m, G)
+    shared = guide.shape[0] > 1 and guide.strides[0] == 0     # one guide for every map
+    g = guide[:1 if shared else None, cov].T.astype(np.float64)
     top = np.percentile(g, 99, axis=0)
     level = np.log2(np.maximum(g, np.maximum(top * floor, 1e-30))).astype(np.float32)
+    at = np.flatnonzero(query[cov])                            # the queries among them
     radius = float(radius_texels) * float(texel)
     spread = np.float32(-0.5 / range_stops ** 2)
-    tree = cKDTree(P)
+    tree = search_tree(position, cov) if tree is None else tree
     k = min(int(neighbours), m)
-    result = np.empty(B.shape, dtype=np.float32)
+    result = np.empty((at.size, B.shape[1]), dtype=np.float32)
 
     def chunk(start):
-        rows = slice(start, min(start + _CHUNK, m))
-        dist, idx = tree.query(P[rows], k=k, distance_upper_bound=radius)
+        rows = slice(start, min(start + _CHUNK, at.size))
+        own = at[rows]
+        dist, idx = tree.query(P[own], k=k, distance_upper_bound=radius)
         idx = idx.reshape(-1, k)
         idx[idx >= m] = 0                            # not found: distance inf, weight 0
         near = _epanechnikov(dist.reshape(-1, k), radius)
-        dot = np.einsum("ic,ijc->ij", N[rows], N[idx])
+        dot = np.einsum("ic,ijc->ij", N[own], N[idx])
         near *= np.clip((dot - min_dot) / (1.0 - min_dot), 0.0, 1.0)
         for r in range(B.shape[1]):
-            w = level[:, r][idx]                     # in place: the chunk's arrays are large
-            w -= level[rows, r, None]
-            np.square(w, out=w)
-            w *= spread
-            np.exp(w, out=w)
-            w *= near
-            w[:, 0] = np.maximum(w[:, 0], 1e-6)      # the texel itself (distance 0) counts
-            result[rows, r] = np.einsum("ij,ij->i", w, B[:, r][idx]) / w.sum(axis=1)
+            if r == 0 or not shared:
+                w = level[:, r][idx]                 # in place: the chunk's arrays are large
+                w -= level[own, r, None]
+                np.square(w, out=w)
+                w *= spread
+                np.exp(w, out=w)
+                w *= near
+                w[:, 0] = np.maximum(w[:, 0], 1e-6)  # the texel itself (distance 0) counts
+                total = w.sum(axis=1)
+            result[rows, r] = np.einsum("ij,ij->i", w, B[:, r][idx]) / total
 
     # chunks side by side: the search and numpy's loops release the GIL, rows are disjoint
     with ThreadPoolExecutor(max_workers=_THREADS) as pool:
-        list(pool.map(chunk, range(0, m, _CHUNK)))
-    out[:, cov] = result.T
-    return out[0] if single else out
+        list(pool.map(chunk, range(0, at.size, _CHUNK)))
+    return result.T
 
 
 def _epanechnikov(dist, radius):

@@ -6,8 +6,13 @@ object's last call of a round its new passes are averaged over their 3D neighbou
 the surface together (:mod:`.filter3d`: one neighbour search; each pass with the range
 weight of its own values, so that passes stay independent) and extended over the
 margin.  A map is the mean of its finished passes weighted by their samples; an adaptive
-bake (:mod:`.adaptive`) measures each map's error from them, and the error of its mean from the raw passes
-(:class:`.adaptive.RawSpread`).
+bake (:mod:`.adaptive`) measures each map's error from them, and the error of its mean
+from the raw passes (:class:`.adaptive.RawSpread`).
+
+An adaptive bake's first passes wait raw until the object's round is baked: where the
+spread of their raw values, averaged over the 3D neighbours, already bounds the map's
+error within the target (:func:`.adaptive.raw_bound`), the map is their mean finished
+once, as a fixed bake finishes its one pass; elsewhere each is finished by itself.
 """
 
 from __future__ import annotations
@@ -32,28 +37,101 @@ class Passes:
         self.colours, self.pending, self.passes, self.noise = {}, {}, {}, {}
         self.region_noise = {}   # (region name, group) -> adaptive.Noise
         self.spread = {}   # (map key, group) -> adaptive.RawSpread of its raw passes
+        self.first = {}    # map key -> [(group, samples, raw rgb)]: first passes, waiting
+        self.bound = {}    # (map key, group) -> adaptive.Noise: finished once, clean by raw
+        self._trees = {}   # map key -> its neighbour search tree, during one finish()
 
-    def add(self, obj_name, group, samples, image):
+    def add(self, obj_name, group, samples, image, index=None):
         """A pass just baked into ``image``: denoised (when the settings say so; the raw
         mean kept object by object in a shared map, :attr:`regions`), pending its
-        object's 3D filter."""
+        object's 3D filter.  An adaptive bake's first passes (``index`` below
+        :attr:`.settings.BakeSettings.first_passes`) wait raw for the object's
+        :meth:`finish`: a map their raw spread already proves clean is denoised once,
+        as their mean (:meth:`_clean_by_raw`)."""
         n = image.size[0]
         px = np.empty(n * n * 4, dtype=np.float32)
         image.pixels.foreach_get(px)
         rgb = px.reshape(n, n, 4)[..., :3]
         raw = luminance(rgb)
-        if self.settings.adaptive:
+        s = self.settings
+        if s.adaptive:
             self.spread.setdefault((obj_name, group), adaptive.RawSpread()).add(raw, samples)
-        if self.settings.denoise:
-            geo = self.geometry[obj_name]
-            if obj_name not in self.colours:
-                self.colours[obj_name] = _denoise.island_colours(geo.island)
-            denoised = _denoise.denoise(rgb, self.colours[obj_name])
-            cells = self.regions.get(obj_name)
-            raw = _denoise.preserve_mean(luminance(_denoise.guard(denoised, rgb)), raw,
-                                         geo.island >= 0,
-                                         parts=list(cells.values()) if cells else None)
+            if s.denoise and index is not None and index < s.first_passes:
+                self.first.setdefault(obj_name, []).append((group, samples, rgb.copy()))
+                return
+        if s.denoise:
+            raw = self._denoised(obj_name, rgb, raw)
         self.pending.setdefault(obj_name, []).append((group, samples, raw.astype(np.float32)))
+
+    def _denoised(self, obj_name, rgb, raw):
+        """OIDN guided by the islands, capped by the raw neighbours, the raw bake's local
+        mean kept (object by object in a shared map): luminance (H, W)."""
+        geo = self.geometry[obj_name]
+        if obj_name not in self.colours:
+            self.colours[obj_name] = _denoise.island_colours(geo.island)
+        denoised = _denoise.denoise(rgb, self.colours[obj_name])
+        cells = self.regions.get(obj_name)
+        return _denoise.preserve_mean(luminance(_denoise.guard(denoised, rgb)), raw,
+                                      geo.island >= 0,
+                                      parts=list(cells.values()) if cells else None)
+
+    def _first_passes(self, obj_name):
+        """The object's first passes, waiting raw (:meth:`add`), into :attr:`pending`: per
+        group, their mean denoised once where their raw spread proves the map clean,
+        else each pass denoised by itself (the passes whose spread measures the map)."""
+        groups = {}
+        for group, samples, rgb in self.first.pop(obj_name, []):
+            groups.setdefault(group, []).append((samples, rgb))
+        for group, items in groups.items():
+            samples = [n for n, _ in items]
+            if len(items) >= 2 and self._clean_by_raw(obj_name, group, [c for _, c in items],
+                                                      samples):
+                rgb = adaptive.mean_map([c for _, c in items], samples).astype(np.float32)
+                items = [(sum(samples), rgb)]
+            for n, rgb in items:
+                y = self._denoised(obj_name, rgb, luminance(rgb))
+                self.pending.setdefault(obj_name, []).append((group, n, y.astype(np.float32)))
+
+    def _clean_by_raw(self, obj_name, group, rgbs, samples):
+        """Whether the raw first passes alone prove the map within its target: the error
+        contrast of their raw values, averaged over the 3D neighbours as the map will be
+        (the weights of the raw mean's values, at a sample of the texels), is an upper
+        bound of the finished map's error where the denoiser takes off at least what the
+        3D filter does (:data:`.adaptive.RAW_BOUND`); if it is within the target in
+        every region of the map (and the mean's error within its own), the map is
+        finished once, from the passes' mean, and its noise is that bound
+        (:attr:`bound`)."""
+        s, geo = self.settings, self.geometry[obj_name]
+        raw = [luminance(c) for c in rgbs]
+        mean = adaptive.mean_map(raw, samples).astype(np.float32)
+        contrasts = adaptive.error_contrasts(raw, samples).astype(np.float32)
+        query = adaptive.sample_mask(geo.covered)
+        values = filter3d.smooth_at(np.concatenate([mean[None], contrasts]),
+                                    np.broadcast_to(mean, (1 + len(contrasts),) + mean.shape),
+                                    geo.position, geo.normal, geo.covered, query, geo.texel,
+                                    tree=self._tree(obj_name))
+        rows, cols = np.nonzero(query & np.asarray(geo.covered, bool))
+        spread = self.spread.get((obj_name, group))
+        cells = self.regions.get(obj_name) or {None: (slice(None), slice(None))}
+        found = {}
+        for name, (ys, xs) in cells.items():
+            inside = _within(rows, ys) & _within(cols, xs)
+            part = spread if name is None or spread is None else spread.part((ys, xs))
+            mean_error = part.mean_error(geo.covered[ys, xs]) if part is not None else 0.0
+            found[name] = adaptive.raw_bound(values[0][inside], values[1:, inside], samples,
+                                             mean_error)
+            if not self._within_target(found[name]):
+                return False
+        for name, noise in found.items():
+            if name is not None:
+                self.region_noise[(name, group)] = noise
+        self.bound[(obj_name, group)] = max(found.values(), key=self._excess)
+        return True
+
+    def _within_target(self, found):
+        s = self.settings
+        return found.p95 <= s.noise_target and not (s.mean_target > 0
+                                                     and found.mean > s.mean_target)
 
     def finish(self, obj_name):
         """Average the object's pending passes over their 3D neighbours on the surface
@@ -71,6 +149,7 @@ class Passes:
         by itself: sofa 25.2 % against 24.7 %, bookshelf 26.1 % against 25.4 %
         (docs/bake.md).
         """
+        self._first_passes(obj_name)
         pending = self.pending.pop(obj_name, [])
         if not pending:
             return
@@ -79,10 +158,19 @@ class Passes:
             geo = self.geometry[obj_name]
             stack = np.stack(Y)
             Y = filter3d.smooth_on_surface(stack, stack, geo.position, geo.normal, geo.covered,
-                                           geo.texel)
+                                           geo.texel, tree=self._tree(obj_name))
             Y = [filter3d.extend_over_margin(y, geo.covered, geo.island >= 0) for y in Y]
         for (group, samples, _), y in zip(pending, Y):
             self.passes.setdefault(obj_name, {}).setdefault(group, []).append((samples, y))
+        self._trees.pop(obj_name, None)
+
+    def _tree(self, obj_name):
+        """The object's neighbour search tree (:func:`.filter3d.search_tree`), kept while
+        one :meth:`finish` needs it."""
+        if obj_name not in self._trees:
+            geo = self.geometry[obj_name]
+            self._trees[obj_name] = filter3d.search_tree(geo.position, geo.covered)
+        return self._trees[obj_name]
 
     def measure(self, obj_name, group):
         """:class:`.adaptive.Noise` of the map so far (kept for the report); ``capped``
@@ -90,6 +178,9 @@ class Passes:
         is measured in each (kept in :attr:`region_noise`), and its noise is the worst
         region's: a dim object in an atlas of bright ones gets the samples it needs."""
         passes = self.passes[obj_name][group]
+        if len(passes) == 1 and (obj_name, group) in self.bound:   # clean by its raw passes
+            found = self.noise[(obj_name, group)] = self.bound[(obj_name, group)]
+            return found
         maps, samples = [y for _, y in passes], [n for n, _ in passes]
         covered = self.geometry[obj_name].covered
         regions = self.regions.get(obj_name)
@@ -153,3 +244,9 @@ class Passes:
         px[..., :3] = (np.maximum(mean, 0.0) * LUX_PER_BAKE_UNIT)[..., None]
         px[..., 3] = 1.0
         image.pixels.foreach_set(px.ravel())
+
+
+def _within(index, part):
+    """Which of ``index`` (int array) lie in the slice ``part``."""
+    start, stop, _ = part.indices(int(index.max()) + 1 if index.size else 0)
+    return (index >= start) & (index < stop)
