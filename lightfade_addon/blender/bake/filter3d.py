@@ -99,8 +99,11 @@ def smooth_at(raw, guide, position, normal, covered, query, texel, **options):
     The neighbours are all covered texels; only the queries are searched (a sample of
     a map filtered at a fraction of the cost)."""
     raw, guide = np.asarray(raw, np.float32), np.asarray(guide, np.float32)
-    return _smooth(raw, guide, position, normal, np.asarray(covered, bool),
-                   np.asarray(query, bool) & np.asarray(covered, bool), texel, **options)
+    covered = np.asarray(covered, bool)
+    if not covered.any():
+        return np.zeros((raw.shape[0], 0), np.float32)
+    return _smooth(raw, guide, position, normal, covered, np.asarray(query, bool) & covered,
+                   texel, **options)
 
 
 def search_tree(position, covered):

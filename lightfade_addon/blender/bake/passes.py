@@ -101,7 +101,7 @@ class Passes:
         every region of the map (and the mean's error within its own), the map is
         finished once, from the passes' mean, and its noise is that bound
         (:attr:`bound`)."""
-        s, geo = self.settings, self.geometry[obj_name]
+        geo = self.geometry[obj_name]
         raw = [luminance(c) for c in rgbs]
         mean = adaptive.mean_map(raw, samples).astype(np.float32)
         contrasts = adaptive.error_contrasts(raw, samples).astype(np.float32)
