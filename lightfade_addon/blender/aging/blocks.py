@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...core.colour.gamut import LUMA
 from ...core.colour.srgb8 import encode_srgb_f32, srgb_code_floats
 from ..pixels import decode_srgb_bytes
 
@@ -45,8 +46,6 @@ def block_mean(rgba, L):
 #: 0.50–0.54 / 0.75–0.83; 0.005 gives 0.45–0.46 / 0.57–0.59 at half as much again of
 #: the render handler's CPU; two seeds of the live render differ by 0.48 / 0.79.
 MIXED = 0.01
-#: Linear luminance of sRGB's primaries (ITU-R BT.709).
-_LUMA = np.array([0.2126, 0.7152, 0.0722], dtype=np.float32)
 
 
 @dataclass(frozen=True, eq=False)
@@ -123,7 +122,7 @@ class Pyramid:
             f, colour = 1 << L, self._levels[0]
             H, W, C = colour.shape
             blocks = colour.reshape(H // f, f, W // f, f, C)
-            luma = blocks[..., :3] @ _LUMA
+            luma = blocks[..., :3] @ LUMA
             bright = luma > luma.mean(axis=(1, 3), keepdims=True)
             count = bright.sum(axis=(1, 3), dtype=np.float32)
             high = np.einsum("ijkl,ijklc->ikc", bright.astype(np.float32), blocks)

@@ -37,7 +37,7 @@ class Passes:
         self.colours, self.pending, self.passes, self.noise = {}, {}, {}, {}
         self.region_noise = {}   # (region name, group) -> adaptive.Noise
         self.spread = {}   # (map key, group) -> adaptive.RawSpread of its raw passes
-        self.first = {}    # map key -> [(group, samples, raw rgb)]: first passes, waiting
+        self.first = {}    # map key -> [(group, samples, rgb, luminance)]: first passes, raw
         self.bound = {}    # (map key, group) -> adaptive.Noise: finished once, clean by raw
         self._trees = {}   # map key -> its neighbour search tree, during one finish()
 
@@ -57,7 +57,7 @@ class Passes:
         if s.adaptive:
             self.spread.setdefault((obj_name, group), adaptive.RawSpread()).add(raw, samples)
             if s.denoise and index is not None and index < s.first_passes:
-                self.first.setdefault(obj_name, []).append((group, samples, rgb.copy()))
+                self.first.setdefault(obj_name, []).append((group, samples, rgb.copy(), raw))
                 return
         if s.denoise:
             raw = self._denoised(obj_name, rgb, raw)
@@ -80,19 +80,19 @@ class Passes:
         group, their mean denoised once where their raw spread proves the map clean,
         else each pass denoised by itself (the passes whose spread measures the map)."""
         groups = {}
-        for group, samples, rgb in self.first.pop(obj_name, []):
-            groups.setdefault(group, []).append((samples, rgb))
+        for group, samples, rgb, raw in self.first.pop(obj_name, []):
+            groups.setdefault(group, []).append((samples, rgb, raw))
         for group, items in groups.items():
-            samples = [n for n, _ in items]
-            if len(items) >= 2 and self._clean_by_raw(obj_name, group, [c for _, c in items],
-                                                      samples):
-                rgb = adaptive.mean_map([c for _, c in items], samples).astype(np.float32)
-                items = [(sum(samples), rgb)]
-            for n, rgb in items:
-                y = self._denoised(obj_name, rgb, luminance(rgb))
+            samples = [n for n, _, _ in items]
+            raws = [y for _, _, y in items]
+            if len(items) >= 2 and self._clean_by_raw(obj_name, group, raws, samples):
+                rgb = adaptive.mean_map([c for _, c, _ in items], samples).astype(np.float32)
+                items = [(sum(samples), rgb, luminance(rgb))]
+            for n, rgb, raw in items:
+                y = self._denoised(obj_name, rgb, raw)
                 self.pending.setdefault(obj_name, []).append((group, n, y.astype(np.float32)))
 
-    def _clean_by_raw(self, obj_name, group, rgbs, samples):
+    def _clean_by_raw(self, obj_name, group, raw, samples):
         """Whether the raw first passes alone prove the map within its target: the error
         contrast of their raw values, averaged over the 3D neighbours as the map will be
         (the weights of the raw mean's values, at a sample of the texels), is an upper
@@ -102,7 +102,6 @@ class Passes:
         finished once, from the passes' mean, and its noise is that bound
         (:attr:`bound`)."""
         geo = self.geometry[obj_name]
-        raw = [luminance(c) for c in rgbs]
         mean = adaptive.mean_map(raw, samples).astype(np.float32)
         contrasts = adaptive.error_contrasts(raw, samples).astype(np.float32)
         query = adaptive.sample_mask(geo.covered)
